@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# fracta setup: installs what is missing on Debian 12, builds Kokkos 3.4.1 with OpenMP
+# from Debian's Trilinos source package into a prefix (once), then configures and builds
+# fracta into build/. Idempotent: a second run only rebuilds what changed.
+#
+# Environment:
+#   KOKKOS_ROOT       use this Kokkos install (3.4 or 4.x, OpenMP or CUDA) instead of building one
+#   FRACTA_PREFIX     where our Kokkos goes (default /opt/fracta)
+#   FRACTA_BUILD_DIR  build directory (default <repo>/build)
+#   FRACTA_BUILD_TYPE CMake build type (default Release)
+set -euo pipefail
+
+repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+prefix=${FRACTA_PREFIX:-/opt/fracta}
+kokkos_prefix=$prefix/kokkos-3.4.1-openmp
+build_dir=${FRACTA_BUILD_DIR:-$repo/build}
+build_type=${FRACTA_BUILD_TYPE:-Release}
+jobs=$(nproc)
+
+say() { printf '[setup] %s\n' "$*" >&2; }
+
+# --- 1. Debian packages -------------------------------------------------------------
+packages=(g++ cmake make ninja-build pkg-config libeigen3-dev libhdf5-dev hdf5-tools
+  libtomlplusplus-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
+  python3-h5py python3-matplotlib python3-numpy dpkg-dev ca-certificates)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  if [ "$(id -u)" != 0 ]; then
+    say "missing Debian packages: ${missing[*]}; run this script as root (or install them) first"
+    exit 1
+  fi
+  say "installing ${missing[*]}"
+  apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# --- 2. Kokkos ----------------------------------------------------------------------
+if [ -n "${KOKKOS_ROOT:-}" ]; then
+  kokkos_root=$KOKKOS_ROOT
+  say "using the Kokkos given by KOKKOS_ROOT=$kokkos_root"
+elif [ -f "$kokkos_prefix/.fracta-stamp" ]; then
+  kokkos_root=$kokkos_prefix
+else
+  kokkos_root=$kokkos_prefix
+  say "building Kokkos 3.4.1 (OpenMP + Serial) into $kokkos_prefix (about a minute, once)"
+  src_cache=$prefix/src
+  mkdir -p "$src_cache"
+  chown _apt:root "$src_cache" 2>/dev/null || true  # apt-get source downloads as _apt
+  tarball=$src_cache/trilinos_13.2.0.orig.tar.gz
+  want_sha=0ddb47784ba7b8a6b9a07a4822b33be508feb4ccd54301b2a5d10c9e54524b90
+  if [ ! -f "$tarball" ] || [ "$(sha256sum "$tarball" | cut -d' ' -f1)" != "$want_sha" ]; then
+    # A deb-src entry mirroring the configured Debian sources (no host is named here).
+    if ! apt-get source --download-only --print-uris trilinos=13.2.0-4 >/dev/null 2>&1; then
+      if [ -f /etc/apt/sources.list.d/debian.sources ]; then
+        sed 's/^Types: deb$/Types: deb-src/' /etc/apt/sources.list.d/debian.sources \
+          >/etc/apt/sources.list.d/fracta-deb-src.sources
+      elif [ -f /etc/apt/sources.list ]; then
+        sed -n 's/^deb /deb-src /p' /etc/apt/sources.list >/etc/apt/sources.list.d/fracta-deb-src.list
+      fi
+      apt-get update -qq
+    fi
+    (cd "$src_cache" && apt-get source --download-only -qq trilinos=13.2.0-4 >/dev/null)
+    got_sha=$(sha256sum "$tarball" | cut -d' ' -f1)
+    if [ "$got_sha" != "$want_sha" ]; then
+      say "trilinos tarball hash mismatch: $got_sha"
+      exit 1
+    fi
+  fi
+  work=$(mktemp -d)
+  trap 'rm -rf "$work"' EXIT
+  tar xzf "$tarball" -C "$work" --strip-components=3 --wildcards '*/packages/kokkos/*'
+  cmake -S "$work" -B "$work/build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    -DCMAKE_CXX_STANDARD=17 -DCMAKE_INSTALL_PREFIX="$kokkos_prefix" \
+    -DKokkos_ENABLE_OPENMP=ON -DKokkos_ENABLE_SERIAL=ON >"$work/configure.log" 2>&1 ||
+    { cat "$work/configure.log" >&2; exit 1; }
+  cmake --build "$work/build" -j "$jobs" >"$work/build.log" 2>&1 || { tail -50 "$work/build.log" >&2; exit 1; }
+  cmake --install "$work/build" >/dev/null
+  date -u +%FT%TZ >"$kokkos_prefix/.fracta-stamp"
+  say "Kokkos installed"
+fi
+
+# --- 3. fracta ----------------------------------------------------------------------
+if [ ! -f "$build_dir/CMakeCache.txt" ]; then
+  cmake -S "$repo" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="$build_type" \
+    -DKokkos_ROOT="$kokkos_root" >"$build_dir.configure.log" 2>&1 ||
+    { cat "$build_dir.configure.log" >&2; exit 1; }
+  rm -f "$build_dir.configure.log"
+fi
+log=$build_dir/build.log
+cmake --build "$build_dir" -j "$jobs" >"$log" 2>&1 || { tail -80 "$log" >&2; say "build failed (full log: $log)"; exit 1; }
+say "built $build_dir/fracta"

@@ -1,0 +1,180 @@
+// The case file (DESIGN.md 3.2): a TOML scene read into plain host structs.
+// Every value is validated here (types, ranges, unknown keys, cross references); the rest of
+// the code trusts a Case. Units are SI throughout (m, s, kg, Pa, N); angles in degrees in the
+// file, radians in the struct where noted.
+#pragma once
+#include <array>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace fracta {
+
+// Where a value came from, for error messages ("file:line: key: what is wrong").
+struct SourcePos {
+  std::string file;
+  int line = 0;
+  int column = 0;
+};
+
+// Bad input: the message names file, line and key. The CLI exits with code 2 on it.
+struct InputError : std::runtime_error {
+  InputError(const std::string& file, int line, const std::string& key, const std::string& what);
+  std::string file;
+  int line = 0;
+  std::string key;
+};
+
+using Vec2 = std::array<double, 2>;
+
+enum class Formulation { plane_stress, plane_strain };
+enum class MaterialModel { elastic, bilinear_j2, mohr_coulomb };
+enum class BodyMethod { fe, de, adaptive, rigid };
+enum class HourglassForm { viscous, stiffness };
+enum class Integration { reduced, full };  // 1-point + hourglass control, or 2x2 Gauss
+
+struct Shape {
+  enum class Type { rectangle, circle, semicircle, polygon } type = Type::rectangle;
+  // rectangle: lower-left corner (x, y) and width, height.
+  // circle: centre (x, y) and radius. semicircle: centre of the flat side (x, y), radius, and
+  // angle_deg, the direction from the flat side towards the arc (90 = arc above).
+  double x = 0, y = 0, width = 0, height = 0, radius = 0, angle_deg = 90.0;
+  std::vector<Vec2> points;  // polygon vertices, either orientation, not self-intersecting
+  SourcePos pos;
+};
+
+struct Segment {
+  Vec2 from{0, 0}, to{0, 0};
+  SourcePos pos;
+};
+
+// A set of nodes: those within tolerance of a segment, or inside a shape.
+struct NodeSelector {
+  enum class Kind { segment, shape } kind = Kind::segment;
+  Segment segment;
+  Shape shape;
+};
+
+struct Material {
+  std::string name;
+  MaterialModel model = MaterialModel::elastic;
+  double density = 0;            // kg/m^3
+  double youngs_modulus = 0;     // Pa
+  double poisson_ratio = 0;      // -
+  double yield_stress = 0;       // Pa (bilinear_j2)
+  double plastic_modulus = 0;    // Pa, slope of stress vs plastic strain (bilinear_j2)
+  double cohesion = 0;           // Pa (mohr_coulomb)
+  double friction_angle = 0;     // rad (file: degrees) (mohr_coulomb)
+  double tensile_strength = 0;   // Pa; tension cut-off (mohr_coulomb) and bond strength; 0 = none
+  double conversion_strain = 0;  // equivalent plastic strain that converts an element
+  SourcePos pos;
+};
+
+struct ContactParams {
+  double stiffness_factor = 0.5;  // lambda of paper Eq. 7
+  double damping_ratio = 0.1;
+  double friction = 0.3;
+};
+
+struct Region {
+  BodyMethod method = BodyMethod::de;
+  Shape shape;
+  SourcePos pos;
+};
+
+struct Body {
+  std::string name;
+  std::string material;     // material name
+  int material_index = -1;  // index into Case::materials
+  BodyMethod method = BodyMethod::fe;
+  double cell_size = 0;  // m
+  Shape shape;
+  std::vector<Shape> cuts;      // removed from the shape (notches, holes)
+  std::vector<Region> regions;  // parts given another method
+  Vec2 initial_velocity{0, 0};  // m/s
+  SourcePos pos;
+};
+
+struct Load {
+  enum class Type { pressure, force } type = Type::pressure;
+  std::string body;
+  int body_index = -1;
+  NodeSelector where;         // pressure: a segment; force: a segment or a shape
+  Vec2 direction{1, 0};       // force only: unit direction of the total force
+  std::vector<double> time;   // s, non-decreasing, piecewise-linear table
+  std::vector<double> value;  // Pa (pressure, positive pushes into the body) or N (total force)
+  SourcePos pos;
+};
+
+struct Boundary {
+  enum class Type { fixed_x, fixed_y, fixed } type = Type::fixed;
+  std::string body;  // empty = every body
+  int body_index = -1;
+  NodeSelector where;
+  SourcePos pos;
+};
+
+struct Probe {
+  std::string name;
+  Vec2 at{0, 0};
+  std::string body;  // empty = any body
+  int body_index = -1;
+  SourcePos pos;
+};
+
+struct BodyProbe {
+  std::string name;
+  std::string body;
+  int body_index = -1;
+  SourcePos pos;
+};
+
+struct SimulationParams {
+  std::string title;
+  Formulation formulation = Formulation::plane_strain;
+  double thickness = 1.0;  // m; required for plane stress, default 1 for plane strain
+  double end_time = 0;     // s
+  double dt_safety = 0.85; // alpha of paper Eq. 19 (fraction of the stable step)
+  double dt = 0;           // s; 0 = automatic
+  bool allow_unstable_dt = false;  // expert switch: accept a fixed dt above the stable bound
+  double output_interval = 0;      // s; 0 = only the first and last frame
+  double history_interval = 0;     // s; 0 = every step
+  HourglassForm hourglass = HourglassForm::viscous;
+  double hourglass_coefficient = 0.1;
+  Integration integration = Integration::reduced;
+  double bulk_viscosity_linear = 0.06;
+  double bulk_viscosity_quadratic = 1.5;
+  double energy_error_limit = 0.5;  // relative error above which the run stops (exit 3)
+};
+
+struct OutputParams {
+  std::string file = "out.h5";
+  std::vector<std::string> fields{"velocity", "stress", "plastic_strain"};
+  double checkpoint_interval = 0;  // s; 0 = none
+};
+
+struct Case {
+  std::string path;  // file it was read from
+  std::string text;  // the file text, recorded in the output
+  SimulationParams sim;
+  std::vector<Material> materials;
+  ContactParams contact;
+  std::vector<Body> bodies;
+  std::vector<Load> loads;
+  std::vector<Boundary> boundaries;
+  std::vector<Probe> probes;
+  std::vector<BodyProbe> body_probes;
+  OutputParams output;
+};
+
+// Reads and validates a case. `overrides` are "section.key=value" strings (CLI --set); for
+// arrays of tables, "body.NAME.key=value" addresses the entry with that name. Throws InputError.
+Case load_case(const std::string& path, const std::vector<std::string>& overrides = {});
+Case parse_case(const std::string& text, const std::string& source_name,
+                const std::vector<std::string>& overrides = {});
+
+const char* to_string(Formulation f);
+const char* to_string(MaterialModel m);
+const char* to_string(BodyMethod m);
+
+}  // namespace fracta

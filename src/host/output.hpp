@@ -1,0 +1,99 @@
+// HDF5 output (DESIGN.md 3.3) and its XDMF side file for ParaView.
+// Host-only: the solver copies device state into these plain structs at output time.
+// History rows are buffered in memory and written on flush(); every write_frame() flushes,
+// so a killed run leaves a file holding every frame written before the kill.
+#pragma once
+#include <array>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace fracta {
+
+struct RunInfo {
+  std::string version;   // FRACTA_VERSION
+  std::string backend;   // Kokkos execution space name
+  int threads = 1;
+  std::string case_text; // the case file text
+  std::string case_path;
+};
+
+// Energies in J (for the modelled thickness), DESIGN.md 1.4.
+struct EnergyRecord {
+  double kinetic = 0, internal = 0, plastic = 0, hourglass = 0, viscous = 0, contact = 0,
+         fracture = 0, conversion = 0, external = 0, error = 0;
+};
+
+struct CountRecord {
+  long elements = 0, particles = 0, composite = 0, bonds = 0, broken_bonds = 0, contacts = 0,
+       conversions = 0;
+};
+
+struct HistoryRecord {
+  double time = 0;
+  double dt = 0;
+  long step = 0;
+  EnergyRecord energy;
+  CountRecord count;
+  double mass = 0, momentum_x = 0, momentum_y = 0;  // kg, kg m/s (totals over all nodes)
+};
+
+struct ProbeRecord {  // nearest node (u, v) and containing element (stress)
+  double time = 0, ux = 0, uy = 0, vx = 0, vy = 0, sxx = 0, syy = 0, sxy = 0;
+};
+
+struct BodyProbeRecord {  // mass-averaged position and velocity of a body
+  double time = 0, x = 0, y = 0, vx = 0, vy = 0;
+};
+
+// One field frame. Node arrays have 2 entries per node (x, y interleaved); element arrays one
+// entry per active element, except stress (4: sxx, syy, szz, sxy) and connectivity (4 node ids).
+struct FrameData {
+  double time = 0;
+  long step = 0;
+  std::vector<double> node_position;  // current coordinates (m), 2 per node
+  std::vector<double> node_displacement;
+  std::vector<double> node_velocity;
+  std::vector<int> element_nodes;     // 4 per active element, counter-clockwise
+  std::vector<int> element_id;        // mesh index of each active element
+  std::vector<int> element_body;
+  std::vector<double> element_stress; // Pa, 4 per element
+  std::vector<double> element_plastic_strain;
+  std::vector<double> element_pressure;  // Pa, -(sxx + syy + szz) / 3
+  std::vector<double> element_von_mises; // Pa
+  std::vector<std::string> fields;    // which optional fields to write ("velocity", "stress", ...)
+};
+
+class OutputFile {
+ public:
+  // Creates (truncates) `path` and writes /run attributes. Throws std::runtime_error on failure.
+  OutputFile(const std::string& path, const RunInfo& info);
+  ~OutputFile();
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+
+  void declare_probe(const std::string& name);
+  void declare_body_probe(const std::string& name);
+
+  void append_history(const HistoryRecord& r);
+  void append_probe(const std::string& name, const ProbeRecord& r);
+  void append_body_probe(const std::string& name, const BodyProbeRecord& r);
+
+  // Writes /frames/K (K = 0, 1, ...), flushes buffered history, updates the .xdmf beside the file.
+  void write_frame(const FrameData& f);
+  // Writes buffered history/probe rows to the file and calls H5Fflush.
+  void flush();
+  // Final /run attributes (steps, wall_seconds, status: "completed", "failed: ...", ...),
+  // flush, close. Safe to call once; the destructor closes without these attributes otherwise.
+  void finish(long steps, double wall_seconds, const std::string& status);
+
+  const std::string& path() const;
+  int frames_written() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace fracta

@@ -1,0 +1,52 @@
+// Kokkos 3.4 / 4.x compatibility and the project's basic types.
+// Kokkos 3.4 keeps math in Kokkos::Experimental and has no Kokkos::min/max; 4.x moved them
+// to Kokkos::. Everything in src/kernels uses these wrappers so both versions (and CUDA)
+// compile unchanged.
+#pragma once
+#include <Kokkos_Core.hpp>
+
+namespace fracta {
+
+using ExecSpace = Kokkos::DefaultExecutionSpace;
+using MemSpace = ExecSpace::memory_space;
+using HostSpace = Kokkos::HostSpace;
+
+template <class T>
+using View = Kokkos::View<T, MemSpace>;
+
+KOKKOS_INLINE_FUNCTION double sqrt_(double a) {
+#if KOKKOS_VERSION >= 40000
+  return Kokkos::sqrt(a);
+#else
+  return Kokkos::Experimental::sqrt(a);
+#endif
+}
+KOKKOS_INLINE_FUNCTION double fabs_(double a) { return a < 0.0 ? -a : a; }
+KOKKOS_INLINE_FUNCTION double min_(double a, double b) { return a < b ? a : b; }
+KOKKOS_INLINE_FUNCTION double max_(double a, double b) { return a > b ? a : b; }
+KOKKOS_INLINE_FUNCTION int min_(int a, int b) { return a < b ? a : b; }
+KOKKOS_INLINE_FUNCTION int max_(int a, int b) { return a > b ? a : b; }
+KOKKOS_INLINE_FUNCTION double atan2_(double y, double x) {
+#if KOKKOS_VERSION >= 40000
+  return Kokkos::atan2(y, x);
+#else
+  return Kokkos::Experimental::atan2(y, x);
+#endif
+}
+KOKKOS_INLINE_FUNCTION double cos_(double a) {
+#if KOKKOS_VERSION >= 40000
+  return Kokkos::cos(a);
+#else
+  return Kokkos::Experimental::cos(a);
+#endif
+}
+KOKKOS_INLINE_FUNCTION double sin_(double a) {
+#if KOKKOS_VERSION >= 40000
+  return Kokkos::sin(a);
+#else
+  return Kokkos::Experimental::sin(a);
+#endif
+}
+KOKKOS_INLINE_FUNCTION bool isfinite_(double a) { return a - a == 0.0; }
+
+}  // namespace fracta
