@@ -1,2 +1,107 @@
-// placeholder, replaced by the CLI
-int main() { return 0; }
+// fracta command line (DESIGN.md 3.1): run | check | info.
+// Exit codes: 0 success, 2 bad input, 3 numerical failure (after writing the last good state).
+#include <CLI/CLI.hpp>
+#include <Kokkos_Core.hpp>
+#include <cstdio>
+#include <cstdlib>
+#include <unistd.h>
+
+#include "host/case.hpp"
+#include "host/mesh.hpp"
+#include "host/model.hpp"
+#include "host/simulation.hpp"
+
+namespace {
+
+void print_info() {
+  std::printf("fracta %s\n", FRACTA_VERSION);
+  std::printf("Kokkos %d.%d.%d, execution space %s, concurrency %d\n", KOKKOS_VERSION / 10000,
+              (KOKKOS_VERSION / 100) % 100, KOKKOS_VERSION % 100, fracta::ExecSpace::name(),
+              fracta::ExecSpace().concurrency());
+}
+
+int check_case(const fracta::Case& c) {
+  using namespace fracta;
+  const HostMesh mesh = build_mesh(c);
+  std::printf("case %s: %s\n", c.path.c_str(), c.sim.title.c_str());
+  std::printf("  %s, thickness %g m, end time %g s\n", to_string(c.sim.formulation), c.sim.thickness,
+              c.sim.end_time);
+  for (const Material& m : c.materials)
+    std::printf("  material %-12s %-12s rho %g kg/m^3, E %g Pa, nu %g\n", m.name.c_str(),
+                to_string(m.model), m.density, m.youngs_modulus, m.poisson_ratio);
+  for (size_t b = 0; b < c.bodies.size(); ++b) {
+    const BodyRange& r = mesh.bodies[b];
+    std::printf("  body %-12s %-9s material %-10s %d nodes, %d elements, cells %.4g x %.4g mm\n",
+                c.bodies[b].name.c_str(), to_string(c.bodies[b].method),
+                c.bodies[b].material.c_str(), r.node_end - r.node_begin,
+                r.element_end - r.element_begin, r.cell_x * 1e3, r.cell_y * 1e3);
+  }
+  const int qp = c.sim.integration == Integration::full ? 4 : 1;
+  std::printf("  physics: FE (%s integration%s), bulk viscosity %g/%g; no bonds or contact "
+              "needed\n",
+              qp == 1 ? "one-point" : "2x2 Gauss",
+              qp == 1 ? (c.sim.hourglass == HourglassForm::viscous ? ", viscous hourglass control"
+                                                                   : ", stiffness hourglass control")
+                      : "",
+              c.sim.bulk_viscosity_linear, c.sim.bulk_viscosity_quadratic);
+  std::printf("  loads %zu, boundary sets %zu, probes %zu, body probes %zu\n", c.loads.size(),
+              c.boundaries.size(), c.probes.size(), c.body_probes.size());
+  std::printf("  memory estimate %.1f MB\n",
+              estimate_memory_bytes(mesh.node_count(), mesh.element_count(), qp) / 1e6);
+  Simulation sim(c);
+  std::printf("  stable dt bound %.4g s; dt %.4g s (%s); about %.0f steps\n",
+              sim.stable_dt_bound(), sim.dt(), c.sim.dt > 0 ? "fixed" : "dt_safety x bound",
+              c.sim.end_time / std::max(sim.dt(), 1e-300));
+  std::printf("  output %s, fields:", c.output.file.c_str());
+  for (const auto& f : c.output.fields) std::printf(" %s", f.c_str());
+  std::printf("\n");
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Kokkos 3.4 prints a warning on stdout unless the OpenMP binding is set: set a good default.
+  setenv("OMP_PROC_BIND", "spread", 0);
+  setenv("OMP_PLACES", "threads", 0);
+  Kokkos::ScopeGuard kokkos(argc, argv);  // consumes --kokkos-* arguments
+
+  CLI::App app{"fracta: 2D adaptive FE-DE impact dynamics"};
+  app.require_subcommand(1);
+  std::string case_path, output_path;
+  std::vector<std::string> overrides;
+  auto* run = app.add_subcommand("run", "run a case and write HDF5 (+ XDMF) output");
+  run->add_option("case", case_path, "case file (TOML)")->required();
+  run->add_option("-o,--output", output_path, "output file (default: the case's output.file)");
+  run->add_option("--set", overrides, "override a case value: section.key=value")->take_all();
+  auto* check = app.add_subcommand("check", "validate a case and print what will be modelled");
+  check->add_option("case", case_path, "case file (TOML)")->required();
+  check->add_option("--set", overrides, "override a case value: section.key=value")->take_all();
+  app.add_subcommand("info", "print version, Kokkos backend and thread count");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);
+    return rc == 0 ? 0 : 2;
+  }
+
+  try {
+    if (app.got_subcommand("info")) {
+      print_info();
+      return 0;
+    }
+    const fracta::Case c = fracta::load_case(case_path, overrides);
+    if (app.got_subcommand("check")) return check_case(c);
+    fracta::RunOptions opt;
+    opt.output_path = output_path;
+    opt.progress_on_terminal = isatty(STDOUT_FILENO);
+    return fracta::run_case(c, opt);
+  } catch (const fracta::InputError& e) {
+    std::fprintf(stderr, "fracta: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fracta: error: %s\n", e.what());
+    return 1;
+  }
+}

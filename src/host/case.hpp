@@ -145,6 +145,8 @@ struct SimulationParams {
   double bulk_viscosity_linear = 0.06;
   double bulk_viscosity_quadratic = 1.5;
   double energy_error_limit = 0.5;  // relative error above which the run stops (exit 3)
+  SourcePos pos;     // the [simulation] table
+  SourcePos dt_pos;  // the `dt` key, when given
 };
 
 struct OutputParams {

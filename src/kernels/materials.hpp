@@ -78,14 +78,359 @@ KOKKOS_INLINE_FUNCTION double elastic_energy_density(const MaterialLaw& m, const
          s[3] * s[3] / (2.0 * m.shear_modulus);
 }
 
+namespace detail {
+
+// ---------------------------------------------------------------------------------------------
+// bilinear_j2: von Mises, linear isotropic hardening R(epeq) = yield_stress + H epeq.
+// ---------------------------------------------------------------------------------------------
+
+// Plane strain: classical 3D radial return (Simo & Hughes 1998, Box 3.2, linear hardening) on
+// the full stress {xx, yy, zz, xy} of the elastic trial (eps_zz = 0 is already in the trial).
+// With q = sqrt(3/2) |s| the trial von Mises stress, d epeq = (q - R_n) / (3G + H) and
+// s_dev <- s_dev (1 - 3G d epeq / q); the plastic strain is dep = 3/2 d epeq s_dev / q
+// (deviatoric, so |dep| = sqrt(3/2) d epeq and epeq grows by exactly d epeq).
+// Returns the backward-Euler plastic work s_new : dep = R_new d epeq.
+KOKKOS_INLINE_FUNCTION double j2_radial_return_3d(const MaterialLaw& m, double s[4],
+                                                  double& epeq) {
+  const double G = m.shear_modulus, H = m.plastic_modulus;
+  const double p = (s[0] + s[1] + s[2]) / 3.0;
+  const double d0 = s[0] - p, d1 = s[1] - p, d2 = s[2] - p, d3 = s[3];
+  const double q = sqrt_(1.5 * (d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * d3 * d3));
+  const double R = m.yield_stress + H * epeq;
+  if (!(q > R)) return 0.0;
+  const double dep = (q - R) / (3.0 * G + H);
+  const double f = 1.0 - 3.0 * G * dep / q;
+  s[0] = p + f * d0;
+  s[1] = p + f * d1;
+  s[2] = p + f * d2;
+  s[3] = f * d3;
+  epeq += dep;
+  return (R + H * dep) * dep;
+}
+
+// Plane stress: Simo & Taylor (1986) closed-form projection, Simo & Hughes 1998 Box 3.3.
+// In Voigt form sigma = {xx, yy, xy}, f = 1/2 sigma.P.sigma - 1/3 R^2 with
+// P = 1/3 [[2,-1,0],[-1,2,0],[0,0,6]]; P and the plane-stress elasticity C share eigenvectors,
+// so sigma_{n+1} = (I + dgamma C P)^-1 sigma_trial is diagonal in
+//   (xx+yy): 1 / (1 + E dgamma / (3 (1 - nu)))   and   (xx-yy), xy: 1 / (1 + 2 G dgamma).
+// phi^2(dgamma) = sigma.P.sigma = a1 / (6 (1 + E dg/(3(1-nu)))^2) + (a2/2 + 2 a3)/(1 + 2 G dg)^2
+// with a1 = (xx+yy)^2, a2 = (yy-xx)^2, a3 = xy^2 of the trial (Box 3.3, step 3).
+// The plastic strain rate is dgamma P sigma = dgamma s (the 3D deviator, zz = -(xx+yy)/3), so
+// epeq = sqrt(2/3 dep:dep) grows by sqrt(2/3) dgamma phi (Box 3.3's alpha update).
+// Consistency: phi = sqrt(2/3) R(epeq_n + sqrt(2/3) dgamma phi). We solve it with Newton in the
+// form g(dg) = phi(dg) - sqrt(2/3) R(...) = 0, the square root of Box 3.3's
+// 1/2 phi^2 - 1/3 R^2 = 0 (same root; for H >= 0 g is convex and decreasing, so Newton from
+// dgamma = 0 converges monotonically without overshoot). s[2] stays exactly 0.
+// Returns the plastic work s_new : dep = dgamma phi^2 (>= 0).
+KOKKOS_INLINE_FUNCTION double j2_plane_stress_return(const MaterialLaw& m, double s[4],
+                                                     double& epeq) {
+  const double E = m.youngs_modulus, nu = m.poisson_ratio, G = m.shear_modulus;
+  const double H = m.plastic_modulus;
+  const double q2 = s[0] * s[0] + s[1] * s[1] - s[0] * s[1] + 3.0 * s[3] * s[3];
+  const double Rn = m.yield_stress + H * epeq;
+  if (!(q2 > Rn * Rn)) return 0.0;
+  const double a1 = (s[0] + s[1]) * (s[0] + s[1]);
+  const double a2 = (s[1] - s[0]) * (s[1] - s[0]);
+  const double a3 = s[3] * s[3];
+  const double cv = E / (3.0 * (1.0 - nu));  // eigenvalue of C P on (xx+yy)
+  const double c2 = 0.5 * a2 + 2.0 * a3;
+  const double r23 = 0.81649658092772603;  // sqrt(2/3)
+  double dg = 0.0, phi = 0.0;
+  for (int it = 0; it < 60; ++it) {
+    const double u = 1.0 + cv * dg, w = 1.0 + 2.0 * G * dg;
+    const double phi2 = a1 / (6.0 * u * u) + c2 / (w * w);
+    phi = sqrt_(phi2);
+    const double R = Rn + H * r23 * dg * phi;
+    const double g = phi - r23 * R;
+    // d phi^2 / d dg, then d phi = d phi^2 / (2 phi); d R = H sqrt(2/3) (phi + dg dphi).
+    const double dphi2 = -a1 * cv / (3.0 * u * u * u) - 4.0 * G * c2 / (w * w * w);
+    const double dphi = dphi2 / (2.0 * phi);
+    const double dgdg = dphi - r23 * H * r23 * (phi + dg * dphi);
+    const double step = -g / dgdg;
+    dg += step;
+    if (fabs_(step) <= 1e-15 * dg || fabs_(g) <= 1e-16 * R) break;
+  }
+  const double u = 1.0 + cv * dg, w = 1.0 + 2.0 * G * dg;
+  const double phi2 = a1 / (6.0 * u * u) + c2 / (w * w);
+  phi = sqrt_(phi2);
+  const double sum = (s[0] + s[1]) / u, dif = (s[0] - s[1]) / w;
+  s[0] = 0.5 * (sum + dif);
+  s[1] = 0.5 * (sum - dif);
+  s[2] = 0.0;
+  s[3] = s[3] / w;
+  epeq += r23 * dg * phi;
+  return dg * phi2;
+}
+
+KOKKOS_INLINE_FUNCTION double bilinear_j2_update(const MaterialLaw& m, const double deps[3],
+                                                 double s[4], double& epeq) {
+  elastic_increment(m, deps, s);
+  return m.plane_strain ? j2_radial_return_3d(m, s, epeq) : j2_plane_stress_return(m, s, epeq);
+}
+
+// ---------------------------------------------------------------------------------------------
+// mohr_coulomb: Drucker-Prager cone sqrt(J2) + alpha I1 <= k, zero-dilatancy flow, with a
+// Rankine tension cut-off. All of it works on the 3D stress {xx, yy, zz, xy} (xz = yz = 0).
+// ---------------------------------------------------------------------------------------------
+
+// Cone constants. The flow is non-associated with zero dilatancy (deviatoric return at fixed
+// pressure), so in steady plane-strain flow dep_zz = 0 forces s_zz = 0, i.e.
+// sigma_zz = (sigma_1 + sigma_2) / 2, sqrt(J2) = t = (sigma_1 - sigma_2) / 2 and
+// I1 = 3 s_m with s_m = (sigma_1 + sigma_2) / 2. The cone then reads t = k - 3 alpha s_m and
+// coincides with Mohr-Coulomb t = c cos(phi) - s_m sin(phi) exactly when
+//   alpha = sin(phi) / 3,  k = c cos(phi)
+// (Abaqus Theory Manual, "matching Mohr-Coulomb parameters", plane strain with psi = 0). The
+// often quoted alpha = tan(phi) / sqrt(9 + 12 tan^2 phi), k = 3 c / sqrt(9 + 12 tan^2 phi) is the
+// plane-strain match for ASSOCIATED flow (psi = phi); with this zero-dilatancy flow it would
+// under-predict the plane-strain strength by 4 % at phi = 30 deg and 7 % at 45 deg.
+KOKKOS_INLINE_FUNCTION void drucker_prager_constants(const MaterialLaw& m, double& alpha,
+                                                     double& k) {
+  alpha = sin_(m.friction_angle) / 3.0;
+  k = m.cohesion * cos_(m.friction_angle);
+}
+
+// Cut-off actually applied: tensile_strength, but never above the cone's apex mean stress
+// k / (3 alpha) (= c cot(phi), the Mohr-Coulomb apex). The cone admits no principal stress above
+// the apex value, so the min only acts on trial states past the apex, which the deviatoric
+// (fixed-pressure) return cannot bring back; with tensile_strength = 0 ("no cut-off") the apex
+// is the cap. Returns a negative number when there is no cap at all (phi = 0 and no cut-off).
+KOKKOS_INLINE_FUNCTION double effective_tension_cap(const MaterialLaw& m, double alpha,
+                                                    double k) {
+  double cap = m.tensile_strength > 0.0 ? m.tensile_strength : -1.0;
+  if (alpha > 0.0) {
+    const double apex = k / (3.0 * alpha);
+    cap = cap >= 0.0 ? min_(cap, apex) : apex;
+  }
+  return cap;
+}
+
+KOKKOS_INLINE_FUNCTION double drucker_prager_f(const double s[4], double alpha, double k) {
+  const double p = (s[0] + s[1] + s[2]) / 3.0;
+  const double d0 = s[0] - p, d1 = s[1] - p, d2 = s[2] - p;
+  const double j2 = 0.5 * (d0 * d0 + d1 * d1 + d2 * d2) + s[3] * s[3];
+  return sqrt_(j2) + alpha * 3.0 * p - k;
+}
+
+// Shear mechanism: deviatoric radial return at fixed I1 (zero dilatancy): s_dev <- beta s_dev
+// with beta = (k - alpha I1) / sqrt(J2_trial), or beta = 0 past the apex (k - alpha I1 <= 0).
+// The plastic strain dep = (1 - beta) s_dev / (2G) is deviatoric; it is added to dep_acc.
+// Returns the sub-step plastic work s_new : dep = beta (1 - beta) |s_dev|^2 / (2G) >= 0.
+KOKKOS_INLINE_FUNCTION double drucker_prager_return(const MaterialLaw& m, double alpha, double k,
+                                                    double tol, double s[4], double dep_acc[4]) {
+  const double p = (s[0] + s[1] + s[2]) / 3.0;
+  const double d0 = s[0] - p, d1 = s[1] - p, d2 = s[2] - p, d3 = s[3];
+  const double j2 = 0.5 * (d0 * d0 + d1 * d1 + d2 * d2) + d3 * d3;
+  const double rj2 = sqrt_(j2);
+  const double r = k - alpha * 3.0 * p;  // admissible sqrt(J2) at this pressure
+  if (rj2 - r <= tol) return 0.0;
+  const double beta = r > 0.0 ? r / rj2 : 0.0;
+  const double c = (1.0 - beta) / (2.0 * m.shear_modulus);
+  dep_acc[0] += c * d0;
+  dep_acc[1] += c * d1;
+  dep_acc[2] += c * d2;
+  dep_acc[3] += c * d3;
+  s[0] = p + beta * d0;
+  s[1] = p + beta * d1;
+  s[2] = p + beta * d2;
+  s[3] = beta * d3;
+  return beta * (1.0 - beta) * 2.0 * j2 / (2.0 * m.shear_modulus);
+}
+
+// Rankine cut-off, associated, multi-surface (Koiter) return in principal space. The principal
+// stresses are the two in-plane ones and sigma_zz. With isotropic elasticity the principal
+// directions do not change during the return and, on the principal axes, C = 2G I + lambda 1 1^T
+// (3D elasticity: the increment is at eps_zz fixed, i.e. plane strain; plane stress reaches it
+// through the eps_zz iteration of mohr_coulomb_plane_stress, which is equivalent to the
+// condensed E/(1-nu^2), nu E/(1-nu^2) moduli with dep_zz = 0). For the active set A,
+//   sigma_i = sigma_i^tr - 2G dl_i - lambda sum_A dl_j = T  (i in A)
+//   => dl_A = (1/2G) [r_A - lambda / (2G + n_A lambda) sum(r_A)],  r_i = sigma_i^tr - T,
+// dropping multipliers < 0 and adding surfaces that the coupling pushes above T (a corner).
+// dep = sum dl_i n_i (x) n_i is added to dep_acc and the sub-step work T sum dl_i (>= 0) to
+// diss. Returns whether the cut-off was active.
+KOKKOS_INLINE_FUNCTION bool rankine_return(const MaterialLaw& m, double T, double s[4],
+                                           double dep_acc[4], double& diss) {
+  const double c = 0.5 * (s[0] + s[1]), h = 0.5 * (s[0] - s[1]);
+  const double rad = sqrt_(h * h + s[3] * s[3]);
+  double pv[3] = {c + rad, c - rad, s[2]};
+  const double tol = 1e-14 * (fabs_(T) + fabs_(c) + rad + fabs_(s[2]));
+  if (!(pv[0] > T + tol) && !(pv[2] > T + tol)) return false;
+  const double a = 2.0 * m.shear_modulus, b = m.lame_lambda;
+  int act[3] = {pv[0] > T + tol, pv[1] > T + tol, pv[2] > T + tol};
+  double dl[3] = {0.0, 0.0, 0.0};
+  for (int it = 0; it < 8; ++it) {
+    int n = 0;
+    double rsum = 0.0;
+    for (int i = 0; i < 3; ++i)
+      if (act[i]) {
+        ++n;
+        rsum += pv[i] - T;
+      }
+    const double f = b / (a + n * b);
+    for (int i = 0; i < 3; ++i) dl[i] = act[i] ? ((pv[i] - T) - f * rsum) / a : 0.0;
+    int worst = -1;
+    double wv = 0.0;
+    for (int i = 0; i < 3; ++i)
+      if (act[i] && dl[i] < wv) {
+        wv = dl[i];
+        worst = i;
+      }
+    if (worst >= 0) {
+      act[worst] = 0;
+      continue;
+    }
+    const double sum = dl[0] + dl[1] + dl[2];
+    bool added = false;
+    for (int i = 0; i < 3; ++i)
+      if (!act[i] && pv[i] - b * sum > T + tol) {
+        act[i] = 1;
+        added = true;
+      }
+    if (!added) break;
+  }
+  const double sum = dl[0] + dl[1] + dl[2];
+  for (int i = 0; i < 3; ++i) pv[i] = act[i] ? T : pv[i] - a * dl[i] - b * sum;
+  // Rotate back with the trial's principal axes: cos 2theta = h / rad, sin 2theta = xy / rad.
+  const double c2 = rad > 0.0 ? h / rad : 1.0, s2 = rad > 0.0 ? s[3] / rad : 0.0;
+  const double cm = 0.5 * (pv[0] + pv[1]), dm = 0.5 * (pv[0] - pv[1]);
+  s[0] = cm + dm * c2;
+  s[1] = cm - dm * c2;
+  s[2] = pv[2];
+  s[3] = dm * s2;
+  // n1 (x) n1 = {(1 + c2)/2, (1 - c2)/2, s2/2}, n2 (x) n2 = {(1 - c2)/2, (1 + c2)/2, -s2/2}.
+  dep_acc[0] += 0.5 * (dl[0] * (1.0 + c2) + dl[1] * (1.0 - c2));
+  dep_acc[1] += 0.5 * (dl[0] * (1.0 - c2) + dl[1] * (1.0 + c2));
+  dep_acc[2] += dl[2];
+  dep_acc[3] += 0.5 * (dl[0] - dl[1]) * s2;
+  diss += T * sum;
+  return true;
+}
+
+// Both mechanisms on a 3D trial stress. Operator split: cone return, then cut-off. A cut-off
+// return only lowers normal stresses (I1 falls, the cone widens) and, to first order, lowers
+// J2 (dJ2 = -2G dl s_1 with s_1 >= 0 the largest deviatoric principal value), so one pass is
+// normally admissible; near the apex a finite cut-off step can leave the cone, so the pair is
+// repeated until both hold. epeq grows by sqrt(2/3 dep:dep) of the step's total 3D plastic
+// strain (DESIGN 1.1, paper Eq. 13). Returns the sum of the sub-steps' plastic work (each >= 0).
+KOKKOS_INLINE_FUNCTION double mohr_coulomb_return_3d(const MaterialLaw& m, double s[4],
+                                                     double& epeq) {
+  double alpha, k;
+  drucker_prager_constants(m, alpha, k);
+  const double T = effective_tension_cap(m, alpha, k);
+  const double scale =
+      fabs_(s[0]) + fabs_(s[1]) + fabs_(s[2]) + fabs_(s[3]) + fabs_(k) + max_(T, 0.0);
+  const double tol = 1e-14 * scale;
+  double dep[4] = {0.0, 0.0, 0.0, 0.0};
+  double diss = 0.0;
+  for (int it = 0; it < 50; ++it) {
+    diss += drucker_prager_return(m, alpha, k, tol, s, dep);
+    if (!(T >= 0.0)) break;
+    if (!rankine_return(m, T, s, dep, diss) || drucker_prager_f(s, alpha, k) <= 16.0 * tol) break;
+  }
+  const double dd = dep[0] * dep[0] + dep[1] * dep[1] + dep[2] * dep[2] + 2.0 * dep[3] * dep[3];
+  epeq += sqrt_(2.0 / 3.0 * dd);
+  return diss;
+}
+
+// 3D elastic trial with a prescribed eps_zz increment (xz = yz = 0).
+KOKKOS_INLINE_FUNCTION void elastic_increment_3d(const MaterialLaw& m, const double deps[3],
+                                                 double deps_zz, double s[4]) {
+  const double G = m.shear_modulus, lam = m.lame_lambda;
+  const double tr = deps[0] + deps[1] + deps_zz;
+  s[0] += lam * tr + 2.0 * G * deps[0];
+  s[1] += lam * tr + 2.0 * G * deps[1];
+  s[2] += lam * tr + 2.0 * G * deps_zz;
+  s[3] += 2.0 * G * deps[2];
+}
+
+// One 3D Mohr-Coulomb update from (s0, ep0) with the eps_zz increment x; the result goes to
+// st, ept, diss and sigma_zz is returned.
+KOKKOS_INLINE_FUNCTION double mohr_coulomb_eps_zz_trial(const MaterialLaw& m,
+                                                        const double deps[3], double x,
+                                                        const double s0[4], double ep0,
+                                                        double st[4], double& ept, double& diss) {
+  for (int i = 0; i < 4; ++i) st[i] = s0[i];
+  ept = ep0;
+  elastic_increment_3d(m, deps, x, st);
+  diss = mohr_coulomb_return_3d(m, st, ept);
+  return st[2];
+}
+
+// Plane stress Mohr-Coulomb: the 3D update above with an unknown eps_zz increment x, solved for
+// sigma_zz(x) = 0 (the plane-stress condition). sigma_zz(x) is continuous and increasing: in
+// the elastic and Rankine-corner cases its slope is an elastic (Schur-complement) modulus > 0;
+// on the cone it is >= K (1 - 2 sqrt(3) alpha) > 0 because alpha = sin(phi)/3 < 1/(2 sqrt(3)).
+// Start from the elastic guess x = -lambda/(lambda+2G) (dxx + dyy) (exact for an elastic step,
+// so elastic steps cost one evaluation), then secant steps safeguarded by bisection once the
+// root is bracketed. The converged s[2] (|s_zz| <= 1e-13 of the stress scale) is set to 0.
+KOKKOS_INLINE_FUNCTION double mohr_coulomb_plane_stress(const MaterialLaw& m,
+                                                        const double deps[3], double s[4],
+                                                        double& epeq) {
+  const double s0[4] = {s[0], s[1], 0.0, s[3]};
+  const double Ee = m.lame_lambda + 2.0 * m.shear_modulus;
+  double st[4], ept, diss;
+  double x = -m.lame_lambda / Ee * (deps[0] + deps[1]);
+  double g = mohr_coulomb_eps_zz_trial(m, deps, x, s0, epeq, st, ept, diss);
+  double alpha, k;
+  drucker_prager_constants(m, alpha, k);
+  const double tol =
+      1e-13 * (fabs_(st[0]) + fabs_(st[1]) + fabs_(st[3]) + fabs_(k) + m.tensile_strength);
+  double lo = 0.0, hi = 0.0;  // g(lo) < 0 < g(hi) once found
+  bool has_lo = false, has_hi = false;
+  double xp = x, gp = g;
+  bool has_prev = false;
+  for (int it = 0; it < 100 && fabs_(g) > tol; ++it) {
+    if (g < 0.0) {
+      lo = x;
+      has_lo = true;
+    } else {
+      hi = x;
+      has_hi = true;
+    }
+    double xn;
+    const double slope = has_prev && x != xp ? (g - gp) / (x - xp) : 0.0;
+    if (slope > 0.0)
+      xn = x - g / slope;
+    else
+      xn = x - g / Ee;
+    if (has_lo && has_hi && !(xn > min_(lo, hi) && xn < max_(lo, hi))) xn = 0.5 * (lo + hi);
+    if (has_lo && has_hi && fabs_(hi - lo) <= 1e-15 * (fabs_(lo) + fabs_(hi))) break;
+    xp = x;
+    gp = g;
+    has_prev = true;
+    x = xn;
+    g = mohr_coulomb_eps_zz_trial(m, deps, x, s0, epeq, st, ept, diss);
+  }
+  for (int i = 0; i < 4; ++i) s[i] = st[i];
+  s[2] = 0.0;
+  epeq = ept;
+  return diss;
+}
+
+KOKKOS_INLINE_FUNCTION double mohr_coulomb_update(const MaterialLaw& m, const double deps[3],
+                                                  double s[4], double& epeq) {
+  if (!m.plane_strain) return mohr_coulomb_plane_stress(m, deps, s, epeq);
+  elastic_increment(m, deps, s);
+  return mohr_coulomb_return_3d(m, s, epeq);
+}
+
+}  // namespace detail
+
 // Updates the stress of one material point for the strain increment deps, accumulating the
 // equivalent plastic strain epeq = sqrt(2/3 dep_ij dep_ij) summed over increments (paper Eq. 13).
-// Returns the plastic dissipation density of the increment (J/m^3, >= 0).
+// Returns the plastic dissipation density of the increment (J/m^3, >= 0): the backward-Euler
+// plastic work s_new : dep (for mohr_coulomb, summed over the cone and cut-off sub-steps).
+// Dispatch by switch, no virtual calls (DESIGN 1.1).
 KOKKOS_INLINE_FUNCTION double update_stress(const MaterialLaw& m, const double deps[3],
                                             double s[4], double& epeq) {
-  elastic_increment(m, deps, s);
-  (void)epeq;
-  return 0.0;  // plastic models: see bilinear_j2_return / mohr_coulomb_return (to be added)
+  switch (m.model) {
+    case kBilinearJ2:
+      return detail::bilinear_j2_update(m, deps, s, epeq);
+    case kMohrCoulomb:
+      return detail::mohr_coulomb_update(m, deps, s, epeq);
+    default:
+      elastic_increment(m, deps, s);
+      return 0.0;
+  }
 }
 
 }  // namespace fracta

@@ -1,0 +1,249 @@
+#include "host/model.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace fracta {
+
+MaterialLaw material_law(const Material& m, Formulation f) {
+  const int model = m.model == MaterialModel::elastic       ? kElastic
+                    : m.model == MaterialModel::bilinear_j2 ? kBilinearJ2
+                                                            : kMohrCoulomb;
+  MaterialLaw law = make_material_law(model, f == Formulation::plane_strain, m.density,
+                                      m.youngs_modulus, m.poisson_ratio);
+  law.yield_stress = m.yield_stress;
+  law.plastic_modulus = m.plastic_modulus;
+  law.cohesion = m.cohesion;
+  law.friction_angle = m.friction_angle;
+  law.tensile_strength = m.tensile_strength;
+  law.conversion_strain = m.conversion_strain;
+  return law;
+}
+
+double estimate_memory_bytes(long nodes, long elements, int qp) {
+  // Nodes: x0, x, v, f, f_ext (2 doubles each), mass, fixed, body. Elements: nodes (4 ints),
+  // material, body, active, per qp stress (4) + epeq + volume, per element 5 doubles.
+  const double per_node = 10 * 8 + 8 + 4 + 4;
+  const double per_element = 7 * 4 + qp * 6 * 8 + 5 * 8;
+  return nodes * per_node + elements * per_element;
+}
+
+namespace {
+
+template <class T, class HostVec>
+View<T*> to_device_1d(const std::string& label, const HostVec& h) {
+  View<T*> d(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::" + label), h.size());
+  auto m = Kokkos::create_mirror_view(d);
+  for (size_t i = 0; i < h.size(); ++i) m(i) = h[i];
+  Kokkos::deep_copy(d, m);
+  return d;
+}
+
+void build_loads(Model& model) {
+  const Case& c = model.scene;
+  std::vector<double> t, v;
+  std::vector<int> offset{0};
+  std::vector<std::array<int, 2>> edges;
+  std::vector<int> edge_load, force_node, force_load;
+  std::vector<Vec2> force_unit;
+  for (size_t k = 0; k < c.loads.size(); ++k) {
+    const Load& l = c.loads[k];
+    t.insert(t.end(), l.time.begin(), l.time.end());
+    v.insert(v.end(), l.value.begin(), l.value.end());
+    offset.push_back(static_cast<int>(t.size()));
+    if (l.type == Load::Type::pressure) {
+      const auto sel = select_edges(model.mesh, l.where.segment, l.body_index);
+      if (sel.empty())
+        throw InputError(l.pos.file, l.pos.line, "load[" + std::to_string(k) + "].segment",
+                         "selects no boundary edge of body '" + l.body + "'");
+      for (const auto& e : sel) {
+        edges.push_back(e);
+        edge_load.push_back(static_cast<int>(k));
+      }
+    } else {
+      const auto sel = select_nodes(model.mesh, l.where, l.body_index);
+      if (sel.empty())
+        throw InputError(l.pos.file, l.pos.line, "load[" + std::to_string(k) + "]",
+                         "selects no node of body '" + l.body + "'");
+      const double share = 1.0 / sel.size();
+      for (int n : sel) {
+        force_node.push_back(n);
+        force_load.push_back(static_cast<int>(k));
+        force_unit.push_back({l.direction[0] * share, l.direction[1] * share});
+      }
+    }
+  }
+  model.tables.time = to_device_1d<double>("load_time", t);
+  model.tables.value = to_device_1d<double>("load_value", v);
+  model.tables.offset = to_device_1d<int>("load_offset", offset);
+  model.tables.count = static_cast<int>(c.loads.size());
+
+  auto& pe = model.pressure_edges;
+  pe.count = static_cast<int>(edges.size());
+  pe.nodes = View<int* [2]>("fracta::pressure_edge_nodes", edges.size());
+  auto pe_h = Kokkos::create_mirror_view(pe.nodes);
+  for (size_t i = 0; i < edges.size(); ++i) {
+    pe_h(i, 0) = edges[i][0];
+    pe_h(i, 1) = edges[i][1];
+  }
+  Kokkos::deep_copy(pe.nodes, pe_h);
+  pe.load = to_device_1d<int>("pressure_edge_load", edge_load);
+
+  auto& nf = model.nodal_forces;
+  nf.count = static_cast<int>(force_node.size());
+  nf.node = to_device_1d<int>("nodal_force_node", force_node);
+  nf.load = to_device_1d<int>("nodal_force_load", force_load);
+  nf.force_per_unit = View<double* [2]>("fracta::nodal_force_unit", force_unit.size());
+  auto nf_h = Kokkos::create_mirror_view(nf.force_per_unit);
+  for (size_t i = 0; i < force_unit.size(); ++i) {
+    nf_h(i, 0) = force_unit[i][0];
+    nf_h(i, 1) = force_unit[i][1];
+  }
+  Kokkos::deep_copy(nf.force_per_unit, nf_h);
+}
+
+void build_probes(Model& model) {
+  const Case& c = model.scene;
+  const HostMesh& m = model.mesh;
+  for (const Probe& p : c.probes) {
+    ProbeSite site;
+    site.name = p.name;
+    double best = std::numeric_limits<double>::max();
+    for (int n = 0; n < m.node_count(); ++n) {
+      if (p.body_index >= 0 && m.node_body[n] != p.body_index) continue;
+      const double d = std::hypot(m.position[n][0] - p.at[0], m.position[n][1] - p.at[1]);
+      if (d < best) {
+        best = d;
+        site.node = n;
+      }
+    }
+    // Containing element (reference configuration); ties go to the first.
+    for (int e = 0; e < m.element_count() && site.element < 0; ++e) {
+      if (p.body_index >= 0 && m.element_body[e] != p.body_index) continue;
+      const auto& lo = m.position[m.element_nodes[e][0]];
+      const auto& hi = m.position[m.element_nodes[e][2]];
+      if (p.at[0] >= lo[0] && p.at[0] <= hi[0] && p.at[1] >= lo[1] && p.at[1] <= hi[1])
+        site.element = e;
+    }
+    if (site.node < 0)
+      throw InputError(p.pos.file, p.pos.line, "probe '" + p.name + "'", "no node to attach to");
+    model.probes.push_back(site);
+  }
+  for (const BodyProbe& p : c.body_probes) {
+    const BodyRange& r = m.bodies[p.body_index];
+    model.body_probes.push_back({p.name, r.node_begin, r.node_end});
+  }
+}
+
+}  // namespace
+
+Model build_model(const Case& c) {
+  Model model;
+  model.scene = c;
+  model.mesh = build_mesh(c);
+  const HostMesh& m = model.mesh;
+  const int nn = m.node_count(), ne = m.element_count();
+  const int qp = c.sim.integration == Integration::full ? 4 : 1;
+
+  for (const Material& mat : c.materials)
+    model.host_materials.push_back(material_law(mat, c.sim.formulation));
+  model.materials = View<MaterialLaw*>("fracta::materials", model.host_materials.size());
+  {
+    auto h = Kokkos::create_mirror_view(model.materials);
+    for (size_t i = 0; i < model.host_materials.size(); ++i) h(i) = model.host_materials[i];
+    Kokkos::deep_copy(model.materials, h);
+  }
+
+  // Nodes: positions, lumped masses rho A t / 4 per element corner, initial velocities.
+  Nodes& nodes = model.nodes;
+  nodes.count = nn;
+  nodes.x0 = View<double* [2]>("fracta::node_x0", nn);
+  nodes.x = View<double* [2]>("fracta::node_x", nn);
+  nodes.v = View<double* [2]>("fracta::node_v", nn);
+  nodes.f = View<double* [2]>("fracta::node_f", nn);
+  nodes.f_ext = View<double* [2]>("fracta::node_f_ext", nn);
+  nodes.mass = View<double*>("fracta::node_mass", nn);
+  nodes.fixed = View<int*>("fracta::node_fixed", nn);
+  nodes.body = to_device_1d<int>("node_body", m.node_body);
+  {
+    auto x = Kokkos::create_mirror_view(nodes.x);
+    auto v = Kokkos::create_mirror_view(nodes.v);
+    auto mass = Kokkos::create_mirror_view(nodes.mass);
+    auto fixed = Kokkos::create_mirror_view(nodes.fixed);
+    Kokkos::deep_copy(mass, 0.0);
+    Kokkos::deep_copy(fixed, 0);
+    for (int n = 0; n < nn; ++n) {
+      x(n, 0) = m.position[n][0];
+      x(n, 1) = m.position[n][1];
+      const Vec2& v0 = c.bodies[m.node_body[n]].initial_velocity;
+      v(n, 0) = v0[0];
+      v(n, 1) = v0[1];
+    }
+    for (int e = 0; e < ne; ++e) {
+      const auto& en = m.element_nodes[e];
+      const auto &p0 = m.position[en[0]], &p1 = m.position[en[1]], &p2 = m.position[en[2]],
+                 &p3 = m.position[en[3]];
+      const double area =
+          0.5 * ((p2[0] - p0[0]) * (p3[1] - p1[1]) + (p1[0] - p3[0]) * (p2[1] - p0[1]));
+      const double em = c.materials[m.element_material[e]].density * area * c.sim.thickness;
+      for (int a = 0; a < 4; ++a) mass(en[a]) += 0.25 * em;
+    }
+    for (size_t k = 0; k < c.boundaries.size(); ++k) {
+      const Boundary& b = c.boundaries[k];
+      const auto sel = select_nodes(m, b.where, b.body_index);
+      if (sel.empty())
+        throw InputError(b.pos.file, b.pos.line, "boundary[" + std::to_string(k) + "]",
+                         "selects no node");
+      const int bits = b.type == Boundary::Type::fixed_x   ? kFixX
+                       : b.type == Boundary::Type::fixed_y ? kFixY
+                                                           : (kFixX | kFixY);
+      for (int n : sel) {
+        fixed(n) |= bits;
+        if (bits & kFixX) v(n, 0) = 0.0;
+        if (bits & kFixY) v(n, 1) = 0.0;
+      }
+    }
+    Kokkos::deep_copy(nodes.x, x);
+    Kokkos::deep_copy(nodes.x0, x);
+    Kokkos::deep_copy(nodes.v, v);
+    Kokkos::deep_copy(nodes.mass, mass);
+    Kokkos::deep_copy(nodes.fixed, fixed);
+  }
+
+  // Elements: every element starts active (conversion comes with the DE issue).
+  Elements& el = model.elements;
+  el.count = ne;
+  el.active_count = ne;
+  el.qp_per_element = qp;
+  el.nodes = View<int* [4]>("fracta::element_nodes", ne);
+  {
+    auto h = Kokkos::create_mirror_view(el.nodes);
+    for (int e = 0; e < ne; ++e)
+      for (int a = 0; a < 4; ++a) h(e, a) = m.element_nodes[e][a];
+    Kokkos::deep_copy(el.nodes, h);
+  }
+  el.material = to_device_1d<int>("element_material", m.element_material);
+  el.body = to_device_1d<int>("element_body", m.element_body);
+  std::vector<int> active(ne);
+  for (int e = 0; e < ne; ++e) active[e] = e;
+  el.active = to_device_1d<int>("element_active", active);
+  el.stress = View<double* [4]>("fracta::qp_stress", static_cast<size_t>(ne) * qp);
+  el.epeq = View<double*>("fracta::qp_epeq", static_cast<size_t>(ne) * qp);
+  el.qp_volume = View<double*>("fracta::qp_volume", static_cast<size_t>(ne) * qp);
+  el.hourglass_disp = View<double* [2]>("fracta::element_hourglass_disp", ne);
+  el.plastic_work = View<double*>("fracta::element_plastic_work", ne);
+  el.hourglass_work = View<double*>("fracta::element_hourglass_work", ne);
+  el.viscous_work = View<double*>("fracta::element_viscous_work", ne);
+
+  model.fe.thickness = c.sim.thickness;
+  model.fe.hourglass_stiffness = c.sim.hourglass == HourglassForm::stiffness ? 1 : 0;
+  model.fe.hourglass_coefficient = c.sim.hourglass_coefficient;
+  model.fe.bulk_linear = c.sim.bulk_viscosity_linear;
+  model.fe.bulk_quadratic = c.sim.bulk_viscosity_quadratic;
+
+  build_loads(model);
+  build_probes(model);
+  return model;
+}
+
+}  // namespace fracta

@@ -1,0 +1,48 @@
+// The model: device state built from a Case (mesh, masses, materials, loads, constraints).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "host/case.hpp"
+#include "host/mesh.hpp"
+#include "kernels/fe_forces.hpp"
+#include "kernels/state.hpp"
+
+namespace fracta {
+
+struct ProbeSite {
+  std::string name;
+  int node = -1;     // nearest node (displacement, velocity)
+  int element = -1;  // containing element (stress), -1 if the point is outside every element
+};
+
+struct BodyProbeSite {
+  std::string name;
+  int node_begin = 0, node_end = 0;
+};
+
+struct Model {
+  Case scene;
+  HostMesh mesh;
+  Nodes nodes;
+  Elements elements;
+  View<MaterialLaw*> materials;
+  std::vector<MaterialLaw> host_materials;
+  LoadTables tables;
+  PressureEdges pressure_edges;
+  NodalForces nodal_forces;
+  FeParams fe;
+  std::vector<ProbeSite> probes;
+  std::vector<BodyProbeSite> body_probes;
+};
+
+// Builds the model; throws InputError for scenes that cannot be modelled (a selector that
+// selects nothing, a convertible body outside the lattice's Poisson-ratio range, ...).
+Model build_model(const Case& c);
+
+MaterialLaw material_law(const Material& m, Formulation f);
+
+// Rough memory estimate of a model (bytes) from its counts.
+double estimate_memory_bytes(long nodes, long elements, int qp_per_element);
+
+}  // namespace fracta

@@ -1,0 +1,379 @@
+#include "host/simulation.hpp"
+
+#include <Kokkos_Core.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "kernels/energy.hpp"
+#include "kernels/integrate.hpp"
+#include "kernels/loads.hpp"
+
+namespace fracta {
+
+namespace {
+
+// Stress the probe reports: the element's quadrature-point average.
+struct ProbeGather {
+  Nodes nodes;
+  Elements elements;
+  View<int*> node, element;
+  View<double* [7]> out;
+  KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
+    const int n = node(k), e = element(k);
+    out(k, 0) = nodes.x(n, 0) - nodes.x0(n, 0);
+    out(k, 1) = nodes.x(n, 1) - nodes.x0(n, 1);
+    out(k, 2) = nodes.v(n, 0);
+    out(k, 3) = nodes.v(n, 1);
+    double s[3] = {0, 0, 0};
+    if (e >= 0) {
+      const int qp = elements.qp_per_element;
+      for (int g = 0; g < qp; ++g) {
+        s[0] += elements.stress(e * qp + g, 0) / qp;
+        s[1] += elements.stress(e * qp + g, 1) / qp;
+        s[2] += elements.stress(e * qp + g, 3) / qp;
+      }
+    }
+    out(k, 4) = s[0];
+    out(k, 5) = s[1];
+    out(k, 6) = s[2];
+  }
+};
+
+template <class V>
+V clone(const V& src) {
+  V dst(Kokkos::view_alloc(Kokkos::WithoutInitializing, src.label() + "_snapshot"),
+        src.layout());
+  Kokkos::deep_copy(dst, src);
+  return dst;
+}
+
+std::string format_duration(double s) {
+  char buf[32];
+  if (!std::isfinite(s) || s < 0) return "--:--";
+  const long t = static_cast<long>(s + 0.5);
+  if (t >= 3600)
+    std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
+  else
+    std::snprintf(buf, sizeof buf, "%ld:%02ld", t / 60, t % 60);
+  return buf;
+}
+
+}  // namespace
+
+Simulation::Simulation(const Case& c) : model_(build_model(c)) {
+  // Initial forces (dt = 0: no strain increment) give f(0) and the first stable step.
+  FeParams p = model_.fe;
+  p.dt = 0.0;
+  apply_loads(model_.nodes, model_.tables, model_.pressure_edges, model_.nodal_forces,
+              c.sim.thickness, 0.0);
+  dt_bound_ = compute_fe_forces(model_.nodes, model_.elements, model_.materials, p);
+  if (dt_bound_ <= 0.0)
+    throw InputError(c.path, c.sim.pos.line, "body", "an element has zero or negative area");
+  if (c.sim.dt > 0.0 && c.sim.dt > dt_bound_ && !c.sim.allow_unstable_dt) {
+    std::ostringstream msg;
+    msg << "fixed dt = " << c.sim.dt << " s exceeds the stable bound " << dt_bound_
+        << " s (largest stable value; the automatic step would be " << c.sim.dt_safety * dt_bound_
+        << " s). Remove dt, lower it, or set simulation.allow_unstable_dt = true (expert)";
+    throw InputError(c.path, c.sim.dt_pos.line ? c.sim.dt_pos.line : c.sim.pos.line,
+                     "simulation.dt", msg.str());
+  }
+  dt_ = next_dt();
+  dt_initial_ = dt_;
+  const HistoryRecord h0 = history();
+  initial_energy_ = h0.energy.kinetic + h0.energy.internal;
+  save_snapshot();
+}
+
+double Simulation::next_dt() const {
+  const Case& c = model_.scene;
+  double dt = c.sim.dt > 0.0 ? c.sim.dt : c.sim.dt_safety * dt_bound_;
+  // Land exactly on end_time.
+  if (time_ + dt > c.sim.end_time) dt = std::max(c.sim.end_time - time_, 0.0);
+  return dt;
+}
+
+void Simulation::step() {
+  if (failed()) return;
+  const Case& c = model_.scene;
+  Model& m = model_;
+  Kokkos::Profiling::pushRegion("fracta::step");
+  external_work_ += kick_drift(m.nodes, dt_);
+  time_ += dt_;
+  apply_loads(m.nodes, m.tables, m.pressure_edges, m.nodal_forces, c.sim.thickness, time_);
+  FeParams p = m.fe;
+  p.dt = dt_;
+  dt_bound_ = compute_fe_forces(m.nodes, m.elements, m.materials, p);
+  external_work_ += kick(m.nodes, dt_);
+  ++steps_;
+  Kokkos::Profiling::popRegion();
+
+  if (!(dt_bound_ > 0.0)) {
+    failure_ = "an element inverted or became non-finite at step " + std::to_string(steps_);
+    return;
+  }
+  if (c.sim.dt <= 0.0 && c.sim.dt_safety * dt_bound_ < 1e-6 * dt_initial_) {
+    failure_ = "time step collapsed below 1e-6 of its initial value";
+    return;
+  }
+  dt_ = next_dt();
+}
+
+HistoryRecord Simulation::history() {
+  HistoryRecord r;
+  r.time = time_;
+  r.dt = dt_;
+  r.step = steps_;
+  const NodeTotals nt = node_totals(model_.nodes);
+  const ElementTotals et = element_totals(model_.elements, model_.materials);
+  r.energy.kinetic = nt.kinetic;
+  r.energy.internal = et.internal;
+  r.energy.plastic = et.plastic;
+  r.energy.hourglass = et.hourglass;
+  r.energy.viscous = et.viscous;
+  r.energy.external = external_work_;
+  const double dissipated = et.plastic + et.hourglass + et.viscous;
+  const double balance = nt.kinetic + et.internal + dissipated - external_work_ - initial_energy_;
+  const double scale = std::max(external_work_ + initial_energy_, nt.kinetic);
+  r.energy.error = scale > 0.0 ? std::fabs(balance) / scale : 0.0;
+  r.mass = nt.mass;
+  r.momentum_x = nt.momentum_x;
+  r.momentum_y = nt.momentum_y;
+  r.count.elements = model_.elements.active_count;
+  if (!std::isfinite(nt.kinetic) || !std::isfinite(et.internal))
+    failure_ = "non-finite energy at step " + std::to_string(steps_);
+  else if (scale > 0.0 && steps_ > 10 && r.energy.error > model_.scene.sim.energy_error_limit) {
+    std::ostringstream msg;
+    msg << "energy error " << r.energy.error << " exceeds simulation.energy_error_limit = "
+        << model_.scene.sim.energy_error_limit << " at step " << steps_ << " (instability?)";
+    failure_ = msg.str();
+  }
+  return r;
+}
+
+std::vector<ProbeRecord> Simulation::probe_records() {
+  const auto& sites = model_.probes;
+  std::vector<ProbeRecord> out(sites.size());
+  if (sites.empty()) return out;
+  View<int*> node("fracta::probe_node", sites.size()), element("fracta::probe_element", sites.size());
+  auto nh = Kokkos::create_mirror_view(node);
+  auto eh = Kokkos::create_mirror_view(element);
+  for (size_t k = 0; k < sites.size(); ++k) {
+    nh(k) = sites[k].node;
+    eh(k) = sites[k].element;
+  }
+  Kokkos::deep_copy(node, nh);
+  Kokkos::deep_copy(element, eh);
+  View<double* [7]> values("fracta::probe_values", sites.size());
+  Kokkos::parallel_for("fracta::probe_gather", Kokkos::RangePolicy<ExecSpace>(0, sites.size()),
+                       ProbeGather{model_.nodes, model_.elements, node, element, values});
+  auto vh = Kokkos::create_mirror_view_and_copy(HostSpace(), values);
+  for (size_t k = 0; k < sites.size(); ++k)
+    out[k] = {time_, vh(k, 0), vh(k, 1), vh(k, 2), vh(k, 3), vh(k, 4), vh(k, 5), vh(k, 6)};
+  return out;
+}
+
+std::vector<BodyProbeRecord> Simulation::body_probe_records() {
+  std::vector<BodyProbeRecord> out;
+  for (const auto& bp : model_.body_probes) {
+    const Sums<5> s = body_sums(model_.nodes, bp.node_begin, bp.node_end);
+    const double m = s.v[0] > 0 ? s.v[0] : 1.0;
+    out.push_back({time_, s.v[1] / m, s.v[2] / m, s.v[3] / m, s.v[4] / m});
+  }
+  return out;
+}
+
+FrameData Simulation::frame(const std::vector<std::string>& fields) {
+  FrameData f;
+  f.time = time_;
+  f.step = steps_;
+  f.fields = fields;
+  const Nodes& n = model_.nodes;
+  const Elements& el = model_.elements;
+  auto x = Kokkos::create_mirror_view_and_copy(HostSpace(), n.x);
+  auto x0 = Kokkos::create_mirror_view_and_copy(HostSpace(), n.x0);
+  auto v = Kokkos::create_mirror_view_and_copy(HostSpace(), n.v);
+  f.node_position.resize(2 * n.count);
+  f.node_displacement.resize(2 * n.count);
+  f.node_velocity.resize(2 * n.count);
+  for (int i = 0; i < n.count; ++i)
+    for (int d = 0; d < 2; ++d) {
+      f.node_position[2 * i + d] = x(i, d);
+      f.node_displacement[2 * i + d] = x(i, d) - x0(i, d);
+      f.node_velocity[2 * i + d] = v(i, d);
+    }
+  auto active = Kokkos::create_mirror_view_and_copy(HostSpace(), el.active);
+  auto conn = Kokkos::create_mirror_view_and_copy(HostSpace(), el.nodes);
+  auto body = Kokkos::create_mirror_view_and_copy(HostSpace(), el.body);
+  auto stress = Kokkos::create_mirror_view_and_copy(HostSpace(), el.stress);
+  auto epeq = Kokkos::create_mirror_view_and_copy(HostSpace(), el.epeq);
+  const int qp = el.qp_per_element;
+  for (int i = 0; i < el.active_count; ++i) {
+    const int e = active(i);
+    for (int a = 0; a < 4; ++a) f.element_nodes.push_back(conn(e, a));
+    f.element_id.push_back(e);
+    f.element_body.push_back(body(e));
+    double s[4] = {0, 0, 0, 0}, ep = 0;
+    for (int g = 0; g < qp; ++g) {
+      for (int k = 0; k < 4; ++k) s[k] += stress(e * qp + g, k) / qp;
+      ep += epeq(e * qp + g) / qp;
+    }
+    f.element_stress.insert(f.element_stress.end(), s, s + 4);
+    f.element_plastic_strain.push_back(ep);
+    f.element_pressure.push_back(-(s[0] + s[1] + s[2]) / 3.0);
+    f.element_von_mises.push_back(std::sqrt(
+        0.5 * ((s[0] - s[1]) * (s[0] - s[1]) + (s[1] - s[2]) * (s[1] - s[2]) +
+               (s[2] - s[0]) * (s[2] - s[0])) +
+        3.0 * s[3] * s[3]));
+  }
+  return f;
+}
+
+void Simulation::save_snapshot() {
+  if (snapshot_.steps < 0) {
+    snapshot_.nodes = model_.nodes;
+    snapshot_.nodes.x = clone(model_.nodes.x);
+    snapshot_.nodes.v = clone(model_.nodes.v);
+    snapshot_.nodes.f = clone(model_.nodes.f);
+    snapshot_.elements = model_.elements;
+    snapshot_.elements.stress = clone(model_.elements.stress);
+    snapshot_.elements.epeq = clone(model_.elements.epeq);
+    snapshot_.elements.qp_volume = clone(model_.elements.qp_volume);
+    snapshot_.elements.hourglass_disp = clone(model_.elements.hourglass_disp);
+    snapshot_.elements.plastic_work = clone(model_.elements.plastic_work);
+    snapshot_.elements.hourglass_work = clone(model_.elements.hourglass_work);
+    snapshot_.elements.viscous_work = clone(model_.elements.viscous_work);
+  } else {
+    Kokkos::deep_copy(snapshot_.nodes.x, model_.nodes.x);
+    Kokkos::deep_copy(snapshot_.nodes.v, model_.nodes.v);
+    Kokkos::deep_copy(snapshot_.nodes.f, model_.nodes.f);
+    Kokkos::deep_copy(snapshot_.elements.stress, model_.elements.stress);
+    Kokkos::deep_copy(snapshot_.elements.epeq, model_.elements.epeq);
+    Kokkos::deep_copy(snapshot_.elements.qp_volume, model_.elements.qp_volume);
+    Kokkos::deep_copy(snapshot_.elements.hourglass_disp, model_.elements.hourglass_disp);
+    Kokkos::deep_copy(snapshot_.elements.plastic_work, model_.elements.plastic_work);
+    Kokkos::deep_copy(snapshot_.elements.hourglass_work, model_.elements.hourglass_work);
+    Kokkos::deep_copy(snapshot_.elements.viscous_work, model_.elements.viscous_work);
+  }
+  snapshot_.time = time_;
+  snapshot_.dt = dt_;
+  snapshot_.dt_bound = dt_bound_;
+  snapshot_.external_work = external_work_;
+  snapshot_.steps = steps_;
+}
+
+void Simulation::restore_snapshot() {
+  Kokkos::deep_copy(model_.nodes.x, snapshot_.nodes.x);
+  Kokkos::deep_copy(model_.nodes.v, snapshot_.nodes.v);
+  Kokkos::deep_copy(model_.nodes.f, snapshot_.nodes.f);
+  Kokkos::deep_copy(model_.elements.stress, snapshot_.elements.stress);
+  Kokkos::deep_copy(model_.elements.epeq, snapshot_.elements.epeq);
+  Kokkos::deep_copy(model_.elements.qp_volume, snapshot_.elements.qp_volume);
+  Kokkos::deep_copy(model_.elements.hourglass_disp, snapshot_.elements.hourglass_disp);
+  Kokkos::deep_copy(model_.elements.plastic_work, snapshot_.elements.plastic_work);
+  Kokkos::deep_copy(model_.elements.hourglass_work, snapshot_.elements.hourglass_work);
+  Kokkos::deep_copy(model_.elements.viscous_work, snapshot_.elements.viscous_work);
+  time_ = snapshot_.time;
+  dt_ = snapshot_.dt;
+  dt_bound_ = snapshot_.dt_bound;
+  external_work_ = snapshot_.external_work;
+  steps_ = snapshot_.steps;
+}
+
+int run_case(const Case& c, const RunOptions& opt) {
+  using clock = std::chrono::steady_clock;
+  const auto wall0 = clock::now();
+  Simulation sim(c);
+  const std::string path = opt.output_path.empty() ? c.output.file : opt.output_path;
+  RunInfo info;
+  info.version = FRACTA_VERSION;
+  info.backend = ExecSpace::name();
+  info.threads = ExecSpace().concurrency();
+  info.case_text = c.text;
+  info.case_path = c.path;
+  OutputFile out(path, info);
+  for (const auto& p : sim.model().probes) out.declare_probe(p.name);
+  for (const auto& p : sim.model().body_probes) out.declare_body_probe(p.name);
+
+  auto record = [&]() {
+    const HistoryRecord h = sim.history();
+    out.append_history(h);
+    const auto probes = sim.probe_records();
+    for (size_t k = 0; k < probes.size(); ++k) out.append_probe(sim.model().probes[k].name, probes[k]);
+    const auto bprobes = sim.body_probe_records();
+    for (size_t k = 0; k < bprobes.size(); ++k)
+      out.append_body_probe(sim.model().body_probes[k].name, bprobes[k]);
+    return h;
+  };
+
+  const double end = c.sim.end_time;
+  const double frame_every = c.sim.output_interval > 0 ? c.sim.output_interval : end;
+  const double history_every = c.sim.history_interval;
+  double next_frame = frame_every, next_history = history_every;
+  HistoryRecord last = record();
+  out.write_frame(sim.frame(c.output.fields));
+  const long snapshot_every = 100;
+
+  double last_print = 0.0;
+  auto progress = [&](bool final_line) {
+    const double wall = std::chrono::duration<double>(clock::now() - wall0).count();
+    if (!final_line) {
+      const double interval = opt.progress_on_terminal ? 0.5 : opt.log_interval_seconds;
+      if (wall - last_print < interval) return;
+    }
+    last_print = wall;
+    const double rate = sim.steps() / std::max(wall, 1e-9);
+    const double remaining_steps = sim.dt() > 0 ? (end - sim.time()) / sim.dt() : 0.0;
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "t = %.4g us / %.4g us (%3.0f%%) | %ld steps, %.3g steps/s | ETA %s | "
+                  "elements %ld | energy error %.3g%%",
+                  sim.time() * 1e6, end * 1e6, 100.0 * sim.time() / end, sim.steps(), rate,
+                  format_duration(remaining_steps / std::max(rate, 1e-9)).c_str(),
+                  last.count.elements, 100.0 * last.energy.error);
+    if (opt.progress_on_terminal)
+      std::fprintf(stdout, "\r%-120s%s", line, final_line ? "\n" : "");
+    else
+      std::fprintf(stdout, "%s\n", line);
+    std::fflush(stdout);
+  };
+
+  const double eps = 1e-12 * end;
+  while (sim.time() < end - eps && !sim.failed()) {
+    sim.step();
+    if (sim.failed()) break;
+    const bool at_end = sim.time() >= end - eps;
+    if (history_every <= 0 || sim.time() >= next_history - eps || at_end) {
+      last = record();
+      while (history_every > 0 && next_history <= sim.time() + eps) next_history += history_every;
+      if (sim.failed()) break;
+    }
+    if (sim.time() >= next_frame - eps || at_end) {
+      out.write_frame(sim.frame(c.output.fields));
+      while (next_frame <= sim.time() + eps) next_frame += frame_every;
+    }
+    if (sim.steps() % snapshot_every == 0) sim.save_snapshot();
+    progress(false);
+  }
+  const double wall = std::chrono::duration<double>(clock::now() - wall0).count();
+  if (sim.failed()) {
+    const std::string why = sim.failure();
+    sim.restore_snapshot();
+    out.write_frame(sim.frame(c.output.fields));
+    out.finish(sim.steps(), wall, "failed: " + why + "; last frame is the last good state");
+    if (opt.progress_on_terminal) std::fprintf(stdout, "\n");
+    std::fprintf(stderr,
+                 "fracta: numerical failure: %s\nfracta: wrote the last good state (t = %.6g s, "
+                 "step %ld) to %s\n",
+                 why.c_str(), sim.time(), sim.steps(), path.c_str());
+    return 3;
+  }
+  progress(true);
+  out.finish(sim.steps(), wall, "completed");
+  std::fprintf(stdout, "fracta: completed %ld steps in %.2f s; output %s\n", sim.steps(), wall,
+               path.c_str());
+  return 0;
+}
+
+}  // namespace fracta

@@ -1,0 +1,66 @@
+// The solver loop (DESIGN.md 1.4): one Simulation owns a Model and advances it step by step.
+// A step reads like the method: kick_drift -> loads -> fe_forces -> kick.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "host/model.hpp"
+#include "host/output.hpp"
+
+namespace fracta {
+
+class Simulation {
+ public:
+  // Builds the model, evaluates the initial forces and the stable time step. Throws InputError
+  // for a fixed dt above the stable bound (unless simulation.allow_unstable_dt).
+  explicit Simulation(const Case& c);
+
+  void step();
+  bool failed() const { return !failure_.empty(); }
+  const std::string& failure() const { return failure_; }
+
+  double time() const { return time_; }
+  double dt() const { return dt_; }
+  long steps() const { return steps_; }
+  double stable_dt_bound() const { return dt_bound_; }  // before the safety factor (s)
+
+  HistoryRecord history();  // energies, counts and conservation totals now
+  std::vector<ProbeRecord> probe_records();
+  std::vector<BodyProbeRecord> body_probe_records();
+  FrameData frame(const std::vector<std::string>& fields);
+
+  // The last good state, kept so a numerical failure can still write it.
+  void save_snapshot();
+  void restore_snapshot();
+
+  Model& model() { return model_; }
+  const Model& model() const { return model_; }
+
+ private:
+  double next_dt() const;
+
+  Model model_;
+  double time_ = 0.0, dt_ = 0.0, dt_bound_ = 0.0, dt_initial_ = 0.0;
+  long steps_ = 0;
+  double external_work_ = 0.0, initial_energy_ = 0.0;
+  std::string failure_;
+
+  struct Snapshot {
+    Nodes nodes;
+    Elements elements;
+    double time = 0, dt = 0, dt_bound = 0, external_work = 0;
+    long steps = -1;
+  } snapshot_;
+};
+
+struct RunOptions {
+  std::string output_path;        // empty: the case's output.file
+  bool progress_on_terminal = true;  // a live progress line; plain log lines otherwise
+  double log_interval_seconds = 10.0;
+};
+
+// Runs a case to its end_time with output. Returns the process exit code: 0 completed,
+// 3 numerical failure (after writing the last good state). Throws InputError for bad input.
+int run_case(const Case& c, const RunOptions& opt);
+
+}  // namespace fracta

@@ -1,0 +1,228 @@
+// Finite-element internal forces (DESIGN.md 1.1): Q4 elements, updated Lagrangian.
+// One kernel per step over the active elements: velocity gradient -> Jaumann rotation of the
+// stress -> material update -> bulk viscosity -> hourglass control -> nodal forces (atomic
+// scatter). It also returns the element stable time step bound.
+#pragma once
+#include "kernels/compat.hpp"
+#include "kernels/materials.hpp"
+#include "kernels/state.hpp"
+
+namespace fracta {
+
+struct FeParams {
+  double thickness = 1.0;  // m (plane strain: the modelled depth)
+  double dt = 0.0;         // s, the step just taken (strain increment = D dt)
+  int hourglass_stiffness = 0;  // 0 viscous, 1 stiffness form (Flanagan-Belytschko 1981)
+  double hourglass_coefficient = 0.1;
+  double bulk_linear = 0.06, bulk_quadratic = 1.5;
+};
+
+// Stress rotation by the Jaumann rate over dt: s += (W s - s W) dt with W_xy = w.
+KOKKOS_INLINE_FUNCTION void jaumann_rotate(double s[4], double w_dt) {
+  const double sxx = s[0], syy = s[1], sxy = s[3];
+  s[0] = sxx + 2.0 * w_dt * sxy;
+  s[1] = syy - 2.0 * w_dt * sxy;
+  s[3] = sxy + w_dt * (syy - sxx);
+}
+
+// Gradient operator of a Q4 at (xi, eta): dN/dx, dN/dy and det J.
+KOKKOS_INLINE_FUNCTION double q4_gradients(const double x[4], const double y[4], double xi,
+                                           double eta, double bx[4], double by[4]) {
+  const double dn_dxi[4] = {-0.25 * (1 - eta), 0.25 * (1 - eta), 0.25 * (1 + eta),
+                            -0.25 * (1 + eta)};
+  const double dn_deta[4] = {-0.25 * (1 - xi), -0.25 * (1 + xi), 0.25 * (1 + xi),
+                             0.25 * (1 - xi)};
+  double j11 = 0, j12 = 0, j21 = 0, j22 = 0;
+  for (int a = 0; a < 4; ++a) {
+    j11 += dn_dxi[a] * x[a];
+    j12 += dn_dxi[a] * y[a];
+    j21 += dn_deta[a] * x[a];
+    j22 += dn_deta[a] * y[a];
+  }
+  const double det = j11 * j22 - j12 * j21;
+  const double inv = det != 0.0 ? 1.0 / det : 0.0;
+  for (int a = 0; a < 4; ++a) {
+    bx[a] = inv * (j22 * dn_dxi[a] - j12 * dn_deta[a]);
+    by[a] = inv * (-j21 * dn_dxi[a] + j11 * dn_deta[a]);
+  }
+  return det;
+}
+
+// QP = 1: one-point integration with the uniform-strain gradients of Flanagan & Belytschko
+// (1981) (exact element averages), plus hourglass control. QP = 4: 2x2 Gauss, no hourglass.
+template <int QP>
+struct FeForces {
+  Nodes nodes;
+  Elements elements;
+  View<const MaterialLaw*> materials;
+  FeParams p;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int i, double& dt_min) const {
+    const int e = elements.active(i);
+    int n[4];
+    double x[4], y[4], vx[4], vy[4];
+    for (int a = 0; a < 4; ++a) {
+      n[a] = elements.nodes(e, a);
+      x[a] = nodes.x(n[a], 0);
+      y[a] = nodes.x(n[a], 1);
+      vx[a] = nodes.v(n[a], 0);
+      vy[a] = nodes.v(n[a], 1);
+    }
+    const MaterialLaw mat = materials(elements.material(e));
+    const double c = mat.wave_speed();
+    double fx[4] = {0, 0, 0, 0}, fy[4] = {0, 0, 0, 0};
+    double plastic = 0.0, viscous = 0.0, area = 0.0, div_rate = 0.0;
+    bool inverted = false;
+
+    for (int g = 0; g < QP; ++g) {
+      double bx[4], by[4], weight;
+      if constexpr (QP == 1) {
+        // Uniform gradients b_a = (1/A) int dN_a/dx dA (FB 1981 Eq. 14).
+        const double A = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
+        const double inv2A = A != 0.0 ? 0.5 / A : 0.0;
+        for (int a = 0; a < 4; ++a) {
+          bx[a] = inv2A * (y[(a + 1) % 4] - y[(a + 3) % 4]);
+          by[a] = inv2A * (x[(a + 3) % 4] - x[(a + 1) % 4]);
+        }
+        weight = A;
+      } else {
+        const double gp = 0.57735026918962576;  // 1/sqrt(3)
+        const double xi = (g == 0 || g == 3) ? -gp : gp;
+        const double eta = (g < 2) ? -gp : gp;
+        weight = q4_gradients(x, y, xi, eta, bx, by);
+      }
+      if (!(weight > 0.0)) inverted = true;  // also catches NaN geometry
+      area += weight;
+      double lxx = 0, lxy = 0, lyx = 0, lyy = 0;  // velocity gradient L_ij = dv_i/dx_j
+      for (int a = 0; a < 4; ++a) {
+        lxx += vx[a] * bx[a];
+        lxy += vx[a] * by[a];
+        lyx += vy[a] * bx[a];
+        lyy += vy[a] * by[a];
+      }
+      const int q = e * QP + g;
+      double s[4] = {elements.stress(q, 0), elements.stress(q, 1), elements.stress(q, 2),
+                     elements.stress(q, 3)};
+      jaumann_rotate(s, 0.5 * (lxy - lyx) * p.dt);
+      const double deps[3] = {lxx * p.dt, lyy * p.dt, 0.5 * (lxy + lyx) * p.dt};
+      double epeq = elements.epeq(q);
+      const double volume = weight * p.thickness;
+      plastic += update_stress(mat, deps, s, epeq) * volume;
+      for (int k = 0; k < 4; ++k) elements.stress(q, k) = s[k];
+      elements.epeq(q) = epeq;
+      elements.qp_volume(q) = volume;
+
+      // Artificial bulk viscosity in compression (linear + quadratic, as LS-DYNA/Abaqus):
+      // q = rho l (C2 l div^2 - C1 c div) for div < 0; it acts as a pressure on the forces only.
+      const double div = lxx + lyy;
+      double qv = 0.0;
+      if (div < 0.0 && weight > 0.0) {
+        const double l = sqrt_(weight * QP);
+        qv = mat.density * l * (p.bulk_quadratic * l * div * div - p.bulk_linear * c * div);
+        viscous += -qv * div * volume * p.dt;
+      }
+      div_rate = div_rate < div ? div_rate : div;
+      const double sxx = s[0] - qv, syy = s[1] - qv, sxy = s[3];
+      for (int a = 0; a < 4; ++a) {
+        fx[a] -= volume * (sxx * bx[a] + sxy * by[a]);
+        fy[a] -= volume * (sxy * bx[a] + syy * by[a]);
+      }
+
+      if constexpr (QP == 1) {
+        // Flanagan-Belytschko hourglass control: gamma_a = 1/4 (h_a - (h.x_i) b_ia) is
+        // orthogonal to every linear field, so it resists only the hourglass mode.
+        const double h[4] = {1.0, -1.0, 1.0, -1.0};
+        double hx = 0, hy = 0;
+        for (int a = 0; a < 4; ++a) {
+          hx += h[a] * x[a];
+          hy += h[a] * y[a];
+        }
+        double gamma[4];
+        double qdot_x = 0, qdot_y = 0;
+        for (int a = 0; a < 4; ++a) {
+          gamma[a] = 0.25 * (h[a] - hx * bx[a] - hy * by[a]);
+          qdot_x += vx[a] * gamma[a];
+          qdot_y += vy[a] * gamma[a];
+        }
+        double b2 = 0.0;
+        for (int a = 0; a < 4; ++a) b2 += bx[a] * bx[a] + by[a] * by[a];
+        double gx, gy;  // generalized hourglass force
+        if (p.hourglass_stiffness) {
+          // k = kappa (P-wave modulus) t A sum(b.b): an element-size-independent stiffness.
+          const double k = p.hourglass_coefficient * mat.p_wave_modulus() * p.thickness * weight * b2;
+          double qx = elements.hourglass_disp(e, 0) + qdot_x * p.dt;
+          double qy = elements.hourglass_disp(e, 1) + qdot_y * p.dt;
+          elements.hourglass_disp(e, 0) = qx;
+          elements.hourglass_disp(e, 1) = qy;
+          gx = k * qx;
+          gy = k * qy;
+        } else {
+          // Viscous: damping coefficient kappa rho c t A sqrt(sum b.b) (kg/s).
+          const double cv = p.hourglass_coefficient * mat.density * c * p.thickness * weight *
+                            sqrt_(b2);
+          gx = cv * qdot_x;
+          gy = cv * qdot_y;
+        }
+        // Power absorbed by the hourglass forces: -sum_a f_a . v_a = g . qdot.
+        elements.hourglass_work(e) += (gx * qdot_x + gy * qdot_y) * p.dt;
+        for (int a = 0; a < 4; ++a) {
+          fx[a] -= gx * gamma[a];
+          fy[a] -= gy * gamma[a];
+        }
+        // Stable step of the one-point element: omega_max^2 <= 4 c^2 sum(b.b) (FB 1981), i.e.
+        // dt <= l / c with l = 1/sqrt(sum b.b) (h/sqrt(2) for a square of side h).
+        const double l = b2 > 0.0 ? 1.0 / sqrt_(b2) : 0.0;
+        const double qs = div_rate < 0.0
+                              ? p.bulk_quadratic * sqrt_(weight) * (-div_rate) + p.bulk_linear * c
+                              : 0.0;
+        const double dt_e = l / (qs + sqrt_(qs * qs + c * c));
+        dt_min = dt_min < dt_e ? dt_min : dt_e;
+      }
+    }
+    if constexpr (QP == 4) {
+      // 2x2 Gauss: for a square the largest element eigenvalue of M^-1 K equals the one-point
+      // bound 4 c^2 sum(b.b) (checked numerically for nu = 0 ... 0.49); the factor 0.9 covers
+      // distorted elements, for which the full-integration stiffness can exceed it slightly.
+      const double A = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
+      double b2 = 0.0;
+      for (int a = 0; a < 4; ++a) {
+        const double bxa = (y[(a + 1) % 4] - y[(a + 3) % 4]) / (2 * A);
+        const double bya = (x[(a + 3) % 4] - x[(a + 1) % 4]) / (2 * A);
+        b2 += bxa * bxa + bya * bya;
+      }
+      const double l = A > 0.0 ? kFullIntegrationDtFactor / sqrt_(b2) : 0.0;
+      const double qs = div_rate < 0.0
+                            ? p.bulk_quadratic * sqrt_(area) * (-div_rate) + p.bulk_linear * c
+                            : 0.0;
+      const double dt_e = l / (qs + sqrt_(qs * qs + c * c));
+      dt_min = dt_min < dt_e ? dt_min : dt_e;
+    }
+    for (int a = 0; a < 4; ++a) {
+      Kokkos::atomic_add(&nodes.f(n[a], 0), fx[a]);
+      Kokkos::atomic_add(&nodes.f(n[a], 1), fy[a]);
+    }
+    elements.plastic_work(e) += plastic;
+    elements.viscous_work(e) += viscous;
+    if (inverted) dt_min = -1.0;  // signals an inverted element to the host
+  }
+
+  static constexpr double kFullIntegrationDtFactor = 0.9;
+};
+
+// Launches the element kernel; returns the smallest element stable step (s, before the safety
+// factor), or a negative value if an element has inverted.
+inline double compute_fe_forces(const Nodes& nodes, const Elements& elements,
+                                const View<const MaterialLaw*>& materials, const FeParams& p) {
+  double dt_min = 1e300;
+  if (elements.active_count == 0) return dt_min;
+  const auto policy = Kokkos::RangePolicy<ExecSpace>(0, elements.active_count);
+  if (elements.qp_per_element == 1)
+    Kokkos::parallel_reduce("fracta::fe_forces", policy,
+                            FeForces<1>{nodes, elements, materials, p}, Kokkos::Min<double>(dt_min));
+  else
+    Kokkos::parallel_reduce("fracta::fe_forces_full", policy,
+                            FeForces<4>{nodes, elements, materials, p}, Kokkos::Min<double>(dt_min));
+  return dt_min;
+}
+
+}  // namespace fracta

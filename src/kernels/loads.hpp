@@ -1,0 +1,40 @@
+// External loads at time t: pressure on boundary edges (follower load on the current geometry)
+// and concentrated forces on node sets. Both add into Nodes::f_ext (N).
+#pragma once
+#include "kernels/compat.hpp"
+#include "kernels/state.hpp"
+
+namespace fracta {
+
+inline void apply_loads(const Nodes& nodes, const LoadTables& tables, const PressureEdges& edges,
+                        const NodalForces& forces, double thickness, double time) {
+  const auto x = nodes.x;
+  const auto f_ext = nodes.f_ext;
+  if (edges.count > 0) {
+    Kokkos::parallel_for(
+        "fracta::pressure_loads", Kokkos::RangePolicy<ExecSpace>(0, edges.count),
+        KOKKOS_LAMBDA(const int k) {
+          const int a = edges.nodes(k, 0), b = edges.nodes(k, 1);
+          const double p = table_value(tables, edges.load(k), time);
+          // Outward normal times length is (dy, -dx); pressure pushes inwards, half per node.
+          const double dx = x(b, 0) - x(a, 0), dy = x(b, 1) - x(a, 1);
+          const double fx = -0.5 * p * thickness * dy, fy = 0.5 * p * thickness * dx;
+          Kokkos::atomic_add(&f_ext(a, 0), fx);
+          Kokkos::atomic_add(&f_ext(a, 1), fy);
+          Kokkos::atomic_add(&f_ext(b, 0), fx);
+          Kokkos::atomic_add(&f_ext(b, 1), fy);
+        });
+  }
+  if (forces.count > 0) {
+    Kokkos::parallel_for(
+        "fracta::nodal_loads", Kokkos::RangePolicy<ExecSpace>(0, forces.count),
+        KOKKOS_LAMBDA(const int k) {
+          const double value = table_value(tables, forces.load(k), time);
+          const int n = forces.node(k);
+          Kokkos::atomic_add(&f_ext(n, 0), value * forces.force_per_unit(k, 0));
+          Kokkos::atomic_add(&f_ext(n, 1), value * forces.force_per_unit(k, 1));
+        });
+  }
+}
+
+}  // namespace fracta
