@@ -1,0 +1,633 @@
+// HDF5 output (DESIGN.md 3.3) and the XDMF side file that lets ParaView open it.
+//
+// File format choices:
+// - libver bounds (earliest, v18): superblock version 0/2. A 1.10 "latest" file (superblock 3)
+//   records "open for writing" in its superblock, and a process killed while writing would leave
+//   a file that readers refuse to open until `h5clear -s` is run. With these bounds a killed run
+//   leaves a file readable as of its last H5Fflush (every frame).
+// - Strings (version, backend, case, case_path, status) are scalar variable-length UTF-8 string
+//   attributes. Variable-length data lives in the global heap, so the 64 KiB object-header limit
+//   does not apply and the whole case text is always the attribute /run/case (tested with
+//   200 KB); h5py reads them as str.
+// - History and probe series are 1-D chunked datasets (chunk 4096 rows, unlimited maximum) that
+//   grow on every flush(); frame arrays are contiguous datasets written once.
+//
+// XDMF choices (checked with ParaView 5.11's three readers, "XDMF Reader", "Xdmf3 Reader S" and
+// "Xdmf3 Reader T", through pvbatch):
+// - Node vectors are Attribute Type "Vector" with Dimensions "N 2". The XDMF Reader pads them
+//   to 3 components (z = 0) and makes node_velocity the active vector, so Glyph works directly;
+//   the Xdmf3 readers load them as 2-component arrays (colour by magnitude/X/Y works; for
+//   glyphs there, use a Calculator to build a 3-vector). A 3-component copy would cost 50 %
+//   more node storage, and XDMF JOIN functions and hyperslabs did not read correctly.
+// - element_stress (M x 4: sxx, syy, szz, sxy) is Attribute Type "Matrix": 4 components in all
+//   three readers.
+// - A frame without nodes or elements is left out of the .xdmf (an XML comment says so): empty
+//   grids crash the Xdmf3 readers and fail in the XDMF Reader. The .h5 still holds the frame.
+#include "host/output.hpp"
+
+#include <hdf5.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <system_error>
+#include <type_traits>
+#include <utility>
+
+namespace fracta {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr hsize_t kChunkRows = 4096;
+
+// Owns one HDF5 identifier and closes it with the matching H5?close.
+class Handle {
+ public:
+  using Closer = herr_t (*)(hid_t);
+  Handle() = default;
+  Handle(hid_t id, Closer close) : id_(id), close_(close) {}
+  Handle(Handle&& o) noexcept : id_(std::exchange(o.id_, H5I_INVALID_HID)), close_(o.close_) {}
+  Handle& operator=(Handle&& o) noexcept {
+    if (this != &o) {
+      reset();
+      id_ = std::exchange(o.id_, H5I_INVALID_HID);
+      close_ = o.close_;
+    }
+    return *this;
+  }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  ~Handle() { reset(); }
+  void reset() {
+    if (id_ >= 0 && close_) close_(id_);
+    id_ = H5I_INVALID_HID;
+  }
+  hid_t get() const { return id_; }
+
+ private:
+  hid_t id_ = H5I_INVALID_HID;
+  Closer close_ = nullptr;
+};
+
+template <class T>
+struct H5Types;
+template <>
+struct H5Types<double> {
+  static hid_t mem() { return H5T_NATIVE_DOUBLE; }
+  static hid_t file() { return H5T_IEEE_F64LE; }
+  static constexpr const char* xdmf = R"(NumberType="Float" Precision="8")";
+};
+template <>
+struct H5Types<std::int64_t> {
+  static hid_t mem() { return H5T_NATIVE_INT64; }
+  static hid_t file() { return H5T_STD_I64LE; }
+  static constexpr const char* xdmf = R"(NumberType="Int" Precision="8")";
+};
+template <>
+struct H5Types<int> {
+  static hid_t mem() { return H5T_NATIVE_INT; }
+  static hid_t file() { return H5T_STD_I32LE; }
+  static constexpr const char* xdmf = R"(NumberType="Int" Precision="4")";
+};
+
+// One column of a record series: dataset name (relative to the series group) and accessor.
+template <class R, class T>
+struct Column {
+  const char* name;
+  T (*get)(const R&);
+};
+
+using HR = HistoryRecord;
+const Column<HR, double> kHistoryReal[] = {
+    {"time", [](const HR& r) { return r.time; }},
+    {"dt", [](const HR& r) { return r.dt; }},
+    {"energy/kinetic", [](const HR& r) { return r.energy.kinetic; }},
+    {"energy/internal", [](const HR& r) { return r.energy.internal; }},
+    {"energy/plastic", [](const HR& r) { return r.energy.plastic; }},
+    {"energy/hourglass", [](const HR& r) { return r.energy.hourglass; }},
+    {"energy/viscous", [](const HR& r) { return r.energy.viscous; }},
+    {"energy/contact", [](const HR& r) { return r.energy.contact; }},
+    {"energy/fracture", [](const HR& r) { return r.energy.fracture; }},
+    {"energy/conversion", [](const HR& r) { return r.energy.conversion; }},
+    {"energy/external", [](const HR& r) { return r.energy.external; }},
+    {"energy/error", [](const HR& r) { return r.energy.error; }},
+    {"mass", [](const HR& r) { return r.mass; }},
+    {"momentum_x", [](const HR& r) { return r.momentum_x; }},
+    {"momentum_y", [](const HR& r) { return r.momentum_y; }},
+};
+const Column<HR, std::int64_t> kHistoryInt[] = {
+    {"step", [](const HR& r) -> std::int64_t { return r.step; }},
+    {"count/elements", [](const HR& r) -> std::int64_t { return r.count.elements; }},
+    {"count/particles", [](const HR& r) -> std::int64_t { return r.count.particles; }},
+    {"count/composite", [](const HR& r) -> std::int64_t { return r.count.composite; }},
+    {"count/bonds", [](const HR& r) -> std::int64_t { return r.count.bonds; }},
+    {"count/broken_bonds", [](const HR& r) -> std::int64_t { return r.count.broken_bonds; }},
+    {"count/contacts", [](const HR& r) -> std::int64_t { return r.count.contacts; }},
+    {"count/conversions", [](const HR& r) -> std::int64_t { return r.count.conversions; }},
+};
+
+using PR = ProbeRecord;
+const Column<PR, double> kProbeReal[] = {
+    {"time", [](const PR& r) { return r.time; }}, {"ux", [](const PR& r) { return r.ux; }},
+    {"uy", [](const PR& r) { return r.uy; }},     {"vx", [](const PR& r) { return r.vx; }},
+    {"vy", [](const PR& r) { return r.vy; }},     {"sxx", [](const PR& r) { return r.sxx; }},
+    {"syy", [](const PR& r) { return r.syy; }},   {"sxy", [](const PR& r) { return r.sxy; }},
+};
+
+using BR = BodyProbeRecord;
+const Column<BR, double> kBodyProbeReal[] = {
+    {"time", [](const BR& r) { return r.time; }}, {"x", [](const BR& r) { return r.x; }},
+    {"y", [](const BR& r) { return r.y; }},       {"vx", [](const BR& r) { return r.vx; }},
+    {"vy", [](const BR& r) { return r.vy; }},
+};
+
+// Optional element fields: FrameData::fields option -> dataset, data, values per element.
+struct ElementField {
+  const char* option;
+  const char* dataset;
+  std::vector<double> FrameData::*data;
+  int width;
+};
+const ElementField kElementFields[] = {
+    {"stress", "element_stress", &FrameData::element_stress, 4},
+    {"plastic_strain", "element_plastic_strain", &FrameData::element_plastic_strain, 1},
+    {"pressure", "element_pressure", &FrameData::element_pressure, 1},
+    {"von_mises", "element_von_mises", &FrameData::element_von_mises, 1},
+};
+
+// What the .xdmf needs to know about a frame already in the file.
+struct FrameInfo {
+  double time = 0;
+  long nodes = 0, elements = 0;
+  std::vector<const ElementField*> fields;
+};
+
+herr_t innermost_error(unsigned n, const H5E_error2_t* e, void* data) {
+  if (n == 0 && e->desc) *static_cast<std::string*>(data) = e->desc;
+  return 0;
+}
+
+std::string xml_escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+struct OutputFile::Impl {
+  std::string path, xdmf_path, h5_name;
+  Handle file, history, probes, body_probes, frames;
+  std::vector<HistoryRecord> history_rows;
+  std::map<std::string, std::vector<ProbeRecord>> probe_rows;
+  std::map<std::string, std::vector<BodyProbeRecord>> body_probe_rows;
+  std::vector<FrameInfo> frame_info;
+  bool finished = false;
+
+  // --- error handling --------------------------------------------------------------------
+
+  [[noreturn]] void fail(const std::string& what) const {
+    std::string detail;
+    H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, innermost_error, &detail);
+    H5Eclear2(H5E_DEFAULT);
+    throw std::runtime_error("output " + path + ": " + what +
+                             (detail.empty() ? "" : " (HDF5: " + detail + ")"));
+  }
+  hid_t id(hid_t h, const std::string& what) const {
+    if (h < 0) fail(what);
+    return h;
+  }
+  void ok(herr_t status, const std::string& what) const {
+    if (status < 0) fail(what);
+  }
+  // Absolute name of `loc`/`name`, for messages.
+  static std::string where(hid_t loc, const std::string& name) {
+    char buf[512] = "";
+    H5Iget_name(loc, buf, sizeof buf);
+    const std::string base = buf;
+    if (name.empty()) return base;
+    return (base == "/" ? "" : base) + "/" + name;
+  }
+  void require_open(const char* op) const {
+    if (finished) throw std::runtime_error("output " + path + ": " + op + " after finish()");
+  }
+
+  // --- helpers ---------------------------------------------------------------------------
+
+  Handle group(hid_t loc, const std::string& name) {
+    return Handle(id(H5Gcreate2(loc, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                     "cannot create group " + where(loc, name)),
+                  H5Gclose);
+  }
+
+  // Scalar attribute `name` on `obj` (replaced if present).
+  template <class T>
+  void attribute(hid_t obj, const char* name, const T& value) {
+    const std::string what = "cannot write attribute " + where(obj, "") + " " + name;
+    if (H5Aexists(obj, name) > 0) ok(H5Adelete(obj, name), what);
+    Handle space(id(H5Screate(H5S_SCALAR), what), H5Sclose);
+    if constexpr (std::is_same_v<T, std::string>) {
+      Handle type(id(H5Tcopy(H5T_C_S1), what), H5Tclose);
+      ok(H5Tset_size(type.get(), H5T_VARIABLE), what);
+      ok(H5Tset_cset(type.get(), H5T_CSET_UTF8), what);
+      Handle attr(
+          id(H5Acreate2(obj, name, type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), what),
+          H5Aclose);
+      const char* p = value.c_str();
+      ok(H5Awrite(attr.get(), type.get(), &p), what);
+    } else {
+      Handle attr(
+          id(H5Acreate2(obj, name, H5Types<T>::file(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+             what),
+          H5Aclose);
+      ok(H5Awrite(attr.get(), H5Types<T>::mem(), &value), what);
+    }
+  }
+
+  // Empty 1-D extendible dataset for a growing series.
+  void create_series(hid_t loc, const char* name, hid_t file_type) {
+    const std::string what = "cannot create dataset " + where(loc, name);
+    const hsize_t zero = 0, unlimited = H5S_UNLIMITED;
+    Handle space(id(H5Screate_simple(1, &zero, &unlimited), what), H5Sclose);
+    Handle dcpl(id(H5Pcreate(H5P_DATASET_CREATE), what), H5Pclose);
+    ok(H5Pset_chunk(dcpl.get(), 1, &kChunkRows), what);
+    Handle ds(
+        id(H5Dcreate2(loc, name, file_type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+           what),
+        H5Dclose);
+  }
+
+  // Appends `values` to the 1-D series `name` under `loc`.
+  template <class T>
+  void append_series(hid_t loc, const char* name, const std::vector<T>& values) {
+    if (values.empty()) return;
+    const std::string what = "cannot append to " + where(loc, name);
+    Handle ds(id(H5Dopen2(loc, name, H5P_DEFAULT), what), H5Dclose);
+    hsize_t old_rows = 0;
+    {
+      Handle space(id(H5Dget_space(ds.get()), what), H5Sclose);
+      ok(H5Sget_simple_extent_dims(space.get(), &old_rows, nullptr), what);
+    }
+    const hsize_t count = values.size(), rows = old_rows + count;
+    ok(H5Dset_extent(ds.get(), &rows), what);
+    Handle file_space(id(H5Dget_space(ds.get()), what), H5Sclose);
+    ok(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &old_rows, nullptr, &count, nullptr),
+       what);
+    Handle mem_space(id(H5Screate_simple(1, &count, nullptr), what), H5Sclose);
+    ok(H5Dwrite(ds.get(), H5Types<T>::mem(), mem_space.get(), file_space.get(), H5P_DEFAULT,
+                values.data()),
+       what);
+  }
+
+  template <class R, class T, std::size_t N>
+  void create_columns(hid_t loc, const Column<R, T> (&columns)[N]) {
+    for (const auto& c : columns) create_series(loc, c.name, H5Types<T>::file());
+  }
+
+  template <class R, class T, std::size_t N>
+  void append_columns(hid_t loc, const Column<R, T> (&columns)[N], const std::vector<R>& rows) {
+    std::vector<T> values(rows.size());
+    for (const auto& c : columns) {
+      for (std::size_t i = 0; i < rows.size(); ++i) values[i] = c.get(rows[i]);
+      append_series(loc, c.name, values);
+    }
+  }
+
+  // Fixed-size dataset: `rows` x `width` (1-D when width == 1), zero rows allowed.
+  template <class T>
+  void write_array(hid_t loc, const char* name, const std::vector<T>& values, std::size_t width) {
+    const std::string what = "cannot write dataset " + where(loc, name);
+    const hsize_t dims[2] = {values.size() / width, width};
+    Handle space(id(H5Screate_simple(width == 1 ? 1 : 2, dims, nullptr), what), H5Sclose);
+    Handle ds(id(H5Dcreate2(loc, name, H5Types<T>::file(), space.get(), H5P_DEFAULT, H5P_DEFAULT,
+                            H5P_DEFAULT),
+                 what),
+              H5Dclose);
+    if (!values.empty())
+      ok(H5Dwrite(ds.get(), H5Types<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), what);
+  }
+
+  template <class T>
+  void write_scalar(hid_t loc, const char* name, T value) {
+    const std::string what = "cannot write dataset " + where(loc, name);
+    Handle space(id(H5Screate(H5S_SCALAR), what), H5Sclose);
+    Handle ds(id(H5Dcreate2(loc, name, H5Types<T>::file(), space.get(), H5P_DEFAULT, H5P_DEFAULT,
+                            H5P_DEFAULT),
+                 what),
+              H5Dclose);
+    ok(H5Dwrite(ds.get(), H5Types<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &value), what);
+  }
+
+  // --- operations ------------------------------------------------------------------------
+
+  void open(const RunInfo& info) {
+    fs::path p(path);
+    h5_name = p.filename().string();
+    fs::path x = p;
+    x.replace_extension(".xdmf");
+    if (x == p) x = fs::path(path + ".xdmf");
+    xdmf_path = x.string();
+
+    Handle fapl(id(H5Pcreate(H5P_FILE_ACCESS), "cannot create file access properties"), H5Pclose);
+    ok(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_EARLIEST, H5F_LIBVER_V18),
+       "cannot set library version bounds");
+    file = Handle(
+        id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), "cannot create file"),
+        H5Fclose);
+    // A .xdmf left by an earlier run would describe frames this file no longer has.
+    std::error_code ignored;
+    fs::remove(xdmf_path, ignored);
+
+    const hid_t root = file.get();
+    Handle run = group(root, "run");
+    attribute(run.get(), "version", info.version);
+    attribute(run.get(), "backend", info.backend);
+    attribute(run.get(), "threads", info.threads);
+    attribute(run.get(), "case", info.case_text);
+    attribute(run.get(), "case_path", info.case_path);
+
+    history = group(root, "history");
+    group(history.get(), "energy");
+    group(history.get(), "count");
+    create_columns(history.get(), kHistoryReal);
+    create_columns(history.get(), kHistoryInt);
+    probes = group(root, "probes");
+    body_probes = group(root, "body_probes");
+    frames = group(root, "frames");
+    ok(H5Fflush(root, H5F_SCOPE_GLOBAL), "cannot flush");
+  }
+
+  static void check_name(const std::string& path, const std::string& name) {
+    if (name.empty() || name == "." || name.find('/') != std::string::npos)
+      throw std::runtime_error("output " + path + ": invalid probe name '" + name + "'");
+  }
+
+  template <class R, std::size_t N>
+  void declare(hid_t parent, std::map<std::string, std::vector<R>>& rows, const std::string& name,
+               const Column<R, double> (&columns)[N]) {
+    require_open("declare probe");
+    check_name(path, name);
+    if (rows.count(name)) return;
+    Handle g = group(parent, name);
+    create_columns(g.get(), columns);
+    rows[name];
+  }
+
+  template <class R>
+  static void buffer(const std::string& path, std::map<std::string, std::vector<R>>& rows,
+                     const std::string& name, const R& r) {
+    auto it = rows.find(name);
+    if (it == rows.end())
+      throw std::runtime_error("output " + path + ": probe '" + name + "' was not declared");
+    it->second.push_back(r);
+  }
+
+  template <class R, std::size_t N>
+  void flush_probes(hid_t parent, std::map<std::string, std::vector<R>>& all,
+                    const Column<R, double> (&columns)[N]) {
+    for (auto& [name, rows] : all) {
+      if (rows.empty()) continue;
+      std::vector<R> pending;
+      pending.swap(rows);
+      const std::string what = "cannot open group " + where(parent, name);
+      Handle g(id(H5Gopen2(parent, name.c_str(), H5P_DEFAULT), what), H5Gclose);
+      append_columns(g.get(), columns, pending);
+    }
+  }
+
+  void flush() {
+    require_open("flush");
+    std::vector<HistoryRecord> pending;
+    pending.swap(history_rows);
+    append_columns(history.get(), kHistoryReal, pending);
+    append_columns(history.get(), kHistoryInt, pending);
+    flush_probes(probes.get(), probe_rows, kProbeReal);
+    flush_probes(body_probes.get(), body_probe_rows, kBodyProbeReal);
+    ok(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "cannot flush");
+  }
+
+  void check_size(const char* what, std::size_t got, std::size_t want) const {
+    if (got != want)
+      throw std::runtime_error("output " + path + ": frame " + std::to_string(frame_info.size()) +
+                               ": " + what + " has " + std::to_string(got) + " values, expected " +
+                               std::to_string(want));
+  }
+
+  void write_frame(const FrameData& f) {
+    require_open("write_frame");
+    if (f.node_position.size() % 2 != 0 || f.element_nodes.size() % 4 != 0)
+      throw std::runtime_error("output " + path +
+                               ": node_position must hold 2 and element_nodes 4 values per item");
+    FrameInfo info;
+    info.time = f.time;
+    info.nodes = static_cast<long>(f.node_position.size() / 2);
+    info.elements = static_cast<long>(f.element_nodes.size() / 4);
+    const std::size_t n = info.nodes, m = info.elements;
+    check_size("node_displacement", f.node_displacement.size(), 2 * n);
+    check_size("node_velocity", f.node_velocity.size(), 2 * n);
+    check_size("element_id", f.element_id.size(), m);
+    check_size("element_body", f.element_body.size(), m);
+    // Unknown options (e.g. "velocity", always written, or fields this writer is not given
+    // yet) are ignored; the case parser validates the names.
+    for (const auto& field : kElementFields) {
+      bool wanted = false;
+      for (const auto& option : f.fields) wanted = wanted || option == field.option;
+      if (!wanted) continue;
+      check_size(field.dataset, (f.*field.data).size(), m * field.width);
+      info.fields.push_back(&field);
+    }
+
+    const std::string name = std::to_string(frame_info.size());
+    Handle g = group(frames.get(), name);
+    attribute(g.get(), "time", f.time);
+    attribute(g.get(), "step", static_cast<std::int64_t>(f.step));
+    write_scalar(g.get(), "time", f.time);
+    write_scalar(g.get(), "step", static_cast<std::int64_t>(f.step));
+    write_array(g.get(), "node_position", f.node_position, 2);
+    write_array(g.get(), "node_displacement", f.node_displacement, 2);
+    write_array(g.get(), "node_velocity", f.node_velocity, 2);
+    write_array(g.get(), "element_nodes", f.element_nodes, 4);
+    write_array(g.get(), "element_id", f.element_id, 1);
+    write_array(g.get(), "element_body", f.element_body, 1);
+    for (const ElementField* field : info.fields)
+      write_array(g.get(), field->dataset, f.*field->data, field->width);
+    g.reset();
+    frame_info.push_back(std::move(info));
+    flush();
+    write_xdmf();
+  }
+
+  // <DataItem> for the dataset /frames/K/NAME of shape `dims`.
+  template <class T>
+  void data_item(std::ostream& x, std::size_t k, const char* name, const std::string& dims) const {
+    x << "          <DataItem Dimensions=\"" << dims << "\" " << H5Types<T>::xdmf
+      << " Format=\"HDF\">" << xml_escape(h5_name) << ":/frames/" << k << "/" << name
+      << "</DataItem>\n";
+  }
+
+  template <class T>
+  void xdmf_attribute(std::ostream& x, std::size_t k, const char* name, const char* type,
+                      const char* center, const std::string& dims) const {
+    x << "        <Attribute Name=\"" << name << "\" AttributeType=\"" << type << "\" Center=\""
+      << center << "\">\n";
+    data_item<T>(x, k, name, dims);
+    x << "        </Attribute>\n";
+  }
+
+  void write_xdmf() const {
+    std::ostringstream x;
+    x.precision(std::numeric_limits<double>::max_digits10);
+    x << "<?xml version=\"1.0\" ?>\n"
+      << "<Xdmf Version=\"3.0\">\n"
+      << "  <Domain>\n"
+      << "    <Grid Name=\"fracta\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    for (std::size_t k = 0; k < frame_info.size(); ++k) {
+      const FrameInfo& fi = frame_info[k];
+      if (fi.nodes == 0 || fi.elements == 0) {
+        x << "      <!-- frame " << k << " (time " << fi.time
+          << ") has no nodes or elements: not listed, empty grids break ParaView's readers -->\n";
+        continue;
+      }
+      const std::string n = std::to_string(fi.nodes), m = std::to_string(fi.elements);
+      x << "      <Grid Name=\"frame_" << k << "\" GridType=\"Uniform\">\n"
+        << "        <Time Value=\"" << fi.time << "\"/>\n"
+        << "        <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << m << "\">\n";
+      data_item<int>(x, k, "element_nodes", m + " 4");
+      x << "        </Topology>\n"
+        << "        <Geometry GeometryType=\"XY\">\n";
+      data_item<double>(x, k, "node_position", n + " 2");
+      x << "        </Geometry>\n";
+      xdmf_attribute<double>(x, k, "node_velocity", "Vector", "Node", n + " 2");
+      xdmf_attribute<double>(x, k, "node_displacement", "Vector", "Node", n + " 2");
+      xdmf_attribute<int>(x, k, "element_id", "Scalar", "Cell", m);
+      xdmf_attribute<int>(x, k, "element_body", "Scalar", "Cell", m);
+      for (const ElementField* field : fi.fields) {
+        const bool scalar = field->width == 1;
+        xdmf_attribute<double>(x, k, field->dataset, scalar ? "Scalar" : "Matrix", "Cell",
+                               scalar ? m : m + " " + std::to_string(field->width));
+      }
+      x << "      </Grid>\n";
+    }
+    x << "    </Grid>\n"
+      << "  </Domain>\n"
+      << "</Xdmf>\n";
+
+    const std::string tmp = xdmf_path + ".tmp";
+    {
+      std::ofstream out(tmp, std::ios::trunc);
+      out << x.str();
+      out.close();
+      if (!out) throw std::runtime_error("output " + path + ": cannot write " + tmp);
+    }
+    if (std::rename(tmp.c_str(), xdmf_path.c_str()) != 0)
+      throw std::runtime_error("output " + path + ": cannot rename " + tmp + " to " + xdmf_path);
+  }
+
+  void close() {
+    frames.reset();
+    body_probes.reset();
+    probes.reset();
+    history.reset();
+    file.reset();
+  }
+
+  void finish(long steps, double wall_seconds, const std::string& status) {
+    if (finished) return;
+    flush();
+    Handle run(id(H5Gopen2(file.get(), "run", H5P_DEFAULT), "cannot open group /run"), H5Gclose);
+    attribute(run.get(), "steps", static_cast<std::int64_t>(steps));
+    attribute(run.get(), "wall_seconds", wall_seconds);
+    attribute(run.get(), "status", status);
+    run.reset();
+    ok(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "cannot flush");
+    finished = true;
+    close();
+  }
+};
+
+OutputFile::OutputFile(const std::string& path, const RunInfo& info)
+    : impl_(std::make_unique<Impl>()) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become exceptions, not stderr dumps
+  impl_->path = path;
+  impl_->open(info);
+}
+
+OutputFile::~OutputFile() {
+  if (!impl_ || impl_->finished) return;
+  try {
+    impl_->flush();
+  } catch (...) {
+    // Destructors must not throw; the rows buffered since the last flush are lost.
+  }
+  impl_->close();
+}
+
+void OutputFile::declare_probe(const std::string& name) {
+  impl_->declare(impl_->probes.get(), impl_->probe_rows, name, kProbeReal);
+}
+
+void OutputFile::declare_body_probe(const std::string& name) {
+  impl_->declare(impl_->body_probes.get(), impl_->body_probe_rows, name, kBodyProbeReal);
+}
+
+void OutputFile::append_history(const HistoryRecord& r) {
+  impl_->require_open("append_history");
+  impl_->history_rows.push_back(r);
+}
+
+void OutputFile::append_probe(const std::string& name, const ProbeRecord& r) {
+  impl_->require_open("append_probe");
+  Impl::buffer(impl_->path, impl_->probe_rows, name, r);
+}
+
+void OutputFile::append_body_probe(const std::string& name, const BodyProbeRecord& r) {
+  impl_->require_open("append_body_probe");
+  Impl::buffer(impl_->path, impl_->body_probe_rows, name, r);
+}
+
+void OutputFile::write_frame(const FrameData& f) {
+  impl_->write_frame(f);
+}
+
+void OutputFile::flush() {
+  impl_->flush();
+}
+
+void OutputFile::finish(long steps, double wall_seconds, const std::string& status) {
+  impl_->finish(steps, wall_seconds, status);
+}
+
+const std::string& OutputFile::path() const {
+  return impl_->path;
+}
+
+int OutputFile::frames_written() const {
+  return static_cast<int>(impl_->frame_info.size());
+}
+
+}  // namespace fracta
