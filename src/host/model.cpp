@@ -230,7 +230,10 @@ Model build_model(const Case& c) {
   el.stress = View<double* [4]>("fracta::qp_stress", static_cast<size_t>(ne) * qp);
   el.epeq = View<double*>("fracta::qp_epeq", static_cast<size_t>(ne) * qp);
   el.qp_volume = View<double*>("fracta::qp_volume", static_cast<size_t>(ne) * qp);
+  el.bulk_viscosity = View<double*>("fracta::qp_bulk_viscosity", static_cast<size_t>(ne) * qp);
   el.hourglass_disp = View<double* [2]>("fracta::element_hourglass_disp", ne);
+  el.hourglass_force = View<double* [2]>("fracta::element_hourglass_force", ne);
+  el.strain_work = View<double*>("fracta::element_strain_work", ne);
   el.plastic_work = View<double*>("fracta::element_plastic_work", ne);
   el.hourglass_work = View<double*>("fracta::element_hourglass_work", ne);
   el.viscous_work = View<double*>("fracta::element_viscous_work", ne);

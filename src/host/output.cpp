@@ -114,6 +114,7 @@ const Column<HR, double> kHistoryReal[] = {
     {"energy/contact", [](const HR& r) { return r.energy.contact; }},
     {"energy/fracture", [](const HR& r) { return r.energy.fracture; }},
     {"energy/conversion", [](const HR& r) { return r.energy.conversion; }},
+    {"energy/time_discretization", [](const HR& r) { return r.energy.time_discretization; }},
     {"energy/external", [](const HR& r) { return r.energy.external; }},
     {"energy/error", [](const HR& r) { return r.energy.error; }},
     {"mass", [](const HR& r) { return r.mass; }},

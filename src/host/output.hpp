@@ -19,10 +19,14 @@ struct RunInfo {
   std::string case_path;
 };
 
-// Energies in J (for the modelled thickness), DESIGN.md 1.4.
+// Energies in J (for the modelled thickness), DESIGN.md 1.4. `error` is the relative balance
+// error |E_kin + E_td + E_int + E_dissipated - E_ext - E_0| / max(E_ext + E_0, E_kin).
+// `time_discretization` (E_td <= 0) is -(dt^2/8) sum |f|^2 / m: the bounded, non-accumulating
+// difference between the full-step kinetic energy and the energy central differences conserve,
+// 1/2 m v(n-1/2).v(n+1/2) (Hughes, The Finite Element Method, 9.3).
 struct EnergyRecord {
   double kinetic = 0, internal = 0, plastic = 0, hourglass = 0, viscous = 0, contact = 0,
-         fracture = 0, conversion = 0, external = 0, error = 0;
+         fracture = 0, conversion = 0, external = 0, time_discretization = 0, error = 0;
 };
 
 struct CountRecord {

@@ -82,7 +82,7 @@ Simulation::Simulation(const Case& c) : model_(build_model(c)) {
   dt_ = next_dt();
   dt_initial_ = dt_;
   const HistoryRecord h0 = history();
-  initial_energy_ = h0.energy.kinetic + h0.energy.internal;
+  initial_energy_ = h0.energy.kinetic + h0.energy.time_discretization + h0.energy.internal;
   save_snapshot();
 }
 
@@ -125,16 +125,21 @@ HistoryRecord Simulation::history() {
   r.time = time_;
   r.dt = dt_;
   r.step = steps_;
-  const NodeTotals nt = node_totals(model_.nodes);
-  const ElementTotals et = element_totals(model_.elements, model_.materials);
+  // The nominal step (not the last one shortened to land on end_time).
+  const double dt_nominal = model_.scene.sim.dt > 0 ? model_.scene.sim.dt
+                                                    : model_.scene.sim.dt_safety * dt_bound_;
+  const NodeTotals nt = node_totals(model_.nodes, dt_nominal);
+  const ElementTotals et = element_totals(model_.elements);
   r.energy.kinetic = nt.kinetic;
   r.energy.internal = et.internal;
   r.energy.plastic = et.plastic;
   r.energy.hourglass = et.hourglass;
   r.energy.viscous = et.viscous;
   r.energy.external = external_work_;
+  r.energy.time_discretization = nt.time_discretization;
   const double dissipated = et.plastic + et.hourglass + et.viscous;
-  const double balance = nt.kinetic + et.internal + dissipated - external_work_ - initial_energy_;
+  const double balance = nt.kinetic + nt.time_discretization + et.internal + dissipated -
+                         external_work_ - initial_energy_;
   const double scale = std::max(external_work_ + initial_energy_, nt.kinetic);
   r.energy.error = scale > 0.0 ? std::fabs(balance) / scale : 0.0;
   r.mass = nt.mass;
@@ -241,6 +246,9 @@ void Simulation::save_snapshot() {
     snapshot_.elements.epeq = clone(model_.elements.epeq);
     snapshot_.elements.qp_volume = clone(model_.elements.qp_volume);
     snapshot_.elements.hourglass_disp = clone(model_.elements.hourglass_disp);
+    snapshot_.elements.strain_work = clone(model_.elements.strain_work);
+    snapshot_.elements.bulk_viscosity = clone(model_.elements.bulk_viscosity);
+    snapshot_.elements.hourglass_force = clone(model_.elements.hourglass_force);
     snapshot_.elements.plastic_work = clone(model_.elements.plastic_work);
     snapshot_.elements.hourglass_work = clone(model_.elements.hourglass_work);
     snapshot_.elements.viscous_work = clone(model_.elements.viscous_work);
@@ -252,6 +260,9 @@ void Simulation::save_snapshot() {
     Kokkos::deep_copy(snapshot_.elements.epeq, model_.elements.epeq);
     Kokkos::deep_copy(snapshot_.elements.qp_volume, model_.elements.qp_volume);
     Kokkos::deep_copy(snapshot_.elements.hourglass_disp, model_.elements.hourglass_disp);
+    Kokkos::deep_copy(snapshot_.elements.strain_work, model_.elements.strain_work);
+    Kokkos::deep_copy(snapshot_.elements.bulk_viscosity, model_.elements.bulk_viscosity);
+    Kokkos::deep_copy(snapshot_.elements.hourglass_force, model_.elements.hourglass_force);
     Kokkos::deep_copy(snapshot_.elements.plastic_work, model_.elements.plastic_work);
     Kokkos::deep_copy(snapshot_.elements.hourglass_work, model_.elements.hourglass_work);
     Kokkos::deep_copy(snapshot_.elements.viscous_work, model_.elements.viscous_work);
@@ -271,6 +282,9 @@ void Simulation::restore_snapshot() {
   Kokkos::deep_copy(model_.elements.epeq, snapshot_.elements.epeq);
   Kokkos::deep_copy(model_.elements.qp_volume, snapshot_.elements.qp_volume);
   Kokkos::deep_copy(model_.elements.hourglass_disp, snapshot_.elements.hourglass_disp);
+  Kokkos::deep_copy(model_.elements.strain_work, snapshot_.elements.strain_work);
+  Kokkos::deep_copy(model_.elements.bulk_viscosity, snapshot_.elements.bulk_viscosity);
+  Kokkos::deep_copy(model_.elements.hourglass_force, snapshot_.elements.hourglass_force);
   Kokkos::deep_copy(model_.elements.plastic_work, snapshot_.elements.plastic_work);
   Kokkos::deep_copy(model_.elements.hourglass_work, snapshot_.elements.hourglass_work);
   Kokkos::deep_copy(model_.elements.viscous_work, snapshot_.elements.viscous_work);

@@ -6,26 +6,35 @@
 
 namespace fracta {
 
-// Totals over all nodes: kinetic energy (J), mass (kg), momentum (kg m/s).
+// Totals over all nodes: kinetic energy (J), mass (kg), momentum (kg m/s), and the
+// central-difference term -(dt^2/8) sum |f|^2/m over free degrees of freedom (J): with it,
+// 1/2 m v(n-1/2).v(n+1/2) = 1/2 m v(n)^2 - dt^2/8 m a(n)^2 is the energy the scheme conserves.
 struct NodeTotals {
-  double kinetic = 0, mass = 0, momentum_x = 0, momentum_y = 0;
+  double kinetic = 0, mass = 0, momentum_x = 0, momentum_y = 0, time_discretization = 0;
 };
 
-inline NodeTotals node_totals(const Nodes& nodes) {
-  Sums<4> s;
+inline NodeTotals node_totals(const Nodes& nodes, double dt) {
+  Sums<5> s;
   const auto v = nodes.v;
+  const auto f = nodes.f;
+  const auto f_ext = nodes.f_ext;
+  const auto fixed = nodes.fixed;
   const auto mass = nodes.mass;
   Kokkos::parallel_reduce(
       "fracta::node_totals", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
-      KOKKOS_LAMBDA(const int n, Sums<4>& acc) {
+      KOKKOS_LAMBDA(const int n, Sums<5>& acc) {
         const double m = mass(n), vx = v(n, 0), vy = v(n, 1);
         acc.v[0] += 0.5 * m * (vx * vx + vy * vy);
         acc.v[1] += m;
         acc.v[2] += m * vx;
         acc.v[3] += m * vy;
+        for (int d = 0; d < 2; ++d) {
+          const double ftot = f(n, d) + f_ext(n, d);
+          if (!(fixed(n) & (1 << d))) acc.v[4] -= 0.125 * dt * dt * ftot * ftot / m;
+        }
       },
-      Kokkos::Sum<Sums<4>>(s));
-  return {s.v[0], s.v[1], s.v[2], s.v[3]};
+      Kokkos::Sum<Sums<5>>(s));
+  return {s.v[0], s.v[1], s.v[2], s.v[3], s.v[4]};
 }
 
 // Totals over the active elements: recoverable strain energy and cumulative dissipation (J).
@@ -33,21 +42,16 @@ struct ElementTotals {
   double internal = 0, plastic = 0, hourglass = 0, viscous = 0;
 };
 
-inline ElementTotals element_totals(const Elements& el, const View<const MaterialLaw*>& materials) {
+inline ElementTotals element_totals(const Elements& el) {
   Sums<4> s;
   if (el.active_count == 0) return {};
-  const int qp = el.qp_per_element;
   Kokkos::parallel_reduce(
       "fracta::element_totals", Kokkos::RangePolicy<ExecSpace>(0, el.active_count),
       KOKKOS_LAMBDA(const int i, Sums<4>& acc) {
         const int e = el.active(i);
-        const MaterialLaw mat = materials(el.material(e));
-        for (int g = 0; g < qp; ++g) {
-          const int q = e * qp + g;
-          const double sig[4] = {el.stress(q, 0), el.stress(q, 1), el.stress(q, 2),
-                                 el.stress(q, 3)};
-          acc.v[0] += elastic_energy_density(mat, sig) * el.qp_volume(q);
-        }
+        // Recoverable energy = stress work - plastic dissipation, both integrated per step
+        // (a state function 1/2 s:C^-1:s V would drift against the nodal work as V changes).
+        acc.v[0] += el.strain_work(e) - el.plastic_work(e);
         acc.v[1] += el.plastic_work(e);
         acc.v[2] += el.hourglass_work(e);
         acc.v[3] += el.viscous_work(e);

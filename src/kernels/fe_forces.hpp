@@ -17,12 +17,15 @@ struct FeParams {
   double bulk_linear = 0.06, bulk_quadratic = 1.5;
 };
 
-// Stress rotation by the Jaumann rate over dt: s += (W s - s W) dt with W_xy = w.
+// Stress rotation for the Jaumann rate over a step, s' = Q s Q^T with Q = exp(W dt), the exact
+// rotation by the angle w dt (W_xy = w). The first-order form s + (W s - s W) dt would not be
+// orthogonal and would pump energy into a spinning stressed body at O((w dt)^2) per step.
 KOKKOS_INLINE_FUNCTION void jaumann_rotate(double s[4], double w_dt) {
+  const double c = cos_(w_dt), sn = sin_(w_dt);
   const double sxx = s[0], syy = s[1], sxy = s[3];
-  s[0] = sxx + 2.0 * w_dt * sxy;
-  s[1] = syy - 2.0 * w_dt * sxy;
-  s[3] = sxy + w_dt * (syy - sxx);
+  s[0] = c * c * sxx + 2.0 * c * sn * sxy + sn * sn * syy;
+  s[1] = sn * sn * sxx - 2.0 * c * sn * sxy + c * c * syy;
+  s[3] = c * sn * (syy - sxx) + (c * c - sn * sn) * sxy;
 }
 
 // Gradient operator of a Q4 at (xi, eta): dN/dx, dN/dy and det J.
@@ -48,6 +51,29 @@ KOKKOS_INLINE_FUNCTION double q4_gradients(const double x[4], const double y[4],
   return det;
 }
 
+// Gradients at quadrature point g; returns the point's weight (area, m^2).
+// QP = 1: the uniform gradients b_a = (1/A) int dN_a/dx dA of Flanagan & Belytschko (1981,
+// Eq. 14), exact element averages; QP = 4: 2x2 Gauss points.
+template <int QP>
+KOKKOS_INLINE_FUNCTION double qp_gradients(const double x[4], const double y[4], int g,
+                                           double bx[4], double by[4]) {
+  if constexpr (QP == 1) {
+    (void)g;
+    const double A = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
+    const double inv2A = A != 0.0 ? 0.5 / A : 0.0;
+    for (int a = 0; a < 4; ++a) {
+      bx[a] = inv2A * (y[(a + 1) % 4] - y[(a + 3) % 4]);
+      by[a] = inv2A * (x[(a + 3) % 4] - x[(a + 1) % 4]);
+    }
+    return A;
+  } else {
+    const double gp = 0.57735026918962576;  // 1/sqrt(3)
+    const double xi = (g == 0 || g == 3) ? -gp : gp;
+    const double eta = (g < 2) ? -gp : gp;
+    return q4_gradients(x, y, xi, eta, bx, by);
+  }
+}
+
 // QP = 1: one-point integration with the uniform-strain gradients of Flanagan & Belytschko
 // (1981) (exact element averages), plus hourglass control. QP = 4: 2x2 Gauss, no hourglass.
 template <int QP>
@@ -60,39 +86,28 @@ struct FeForces {
   KOKKOS_INLINE_FUNCTION void operator()(const int i, double& dt_min) const {
     const int e = elements.active(i);
     int n[4];
-    double x[4], y[4], vx[4], vy[4];
+    double x[4], y[4], vx[4], vy[4], xm[4], ym[4];
     for (int a = 0; a < 4; ++a) {
       n[a] = elements.nodes(e, a);
       x[a] = nodes.x(n[a], 0);
       y[a] = nodes.x(n[a], 1);
       vx[a] = nodes.v(n[a], 0);
       vy[a] = nodes.v(n[a], 1);
+      xm[a] = x[a] - 0.5 * p.dt * vx[a];
+      ym[a] = y[a] - 0.5 * p.dt * vy[a];
     }
     const MaterialLaw mat = materials(elements.material(e));
     const double c = mat.wave_speed();
     double fx[4] = {0, 0, 0, 0}, fy[4] = {0, 0, 0, 0};
-    double plastic = 0.0, viscous = 0.0, area = 0.0, div_rate = 0.0;
+    double plastic = 0.0, viscous = 0.0, strain_work = 0.0, area = 0.0, div_rate = 0.0;
     bool inverted = false;
 
     for (int g = 0; g < QP; ++g) {
-      double bx[4], by[4], weight;
-      if constexpr (QP == 1) {
-        // Uniform gradients b_a = (1/A) int dN_a/dx dA (FB 1981 Eq. 14).
-        const double A = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
-        const double inv2A = A != 0.0 ? 0.5 / A : 0.0;
-        for (int a = 0; a < 4; ++a) {
-          bx[a] = inv2A * (y[(a + 1) % 4] - y[(a + 3) % 4]);
-          by[a] = inv2A * (x[(a + 3) % 4] - x[(a + 1) % 4]);
-        }
-        weight = A;
-      } else {
-        const double gp = 0.57735026918962576;  // 1/sqrt(3)
-        const double xi = (g == 0 || g == 3) ? -gp : gp;
-        const double eta = (g < 2) ? -gp : gp;
-        weight = q4_gradients(x, y, xi, eta, bx, by);
-      }
-      if (!(weight > 0.0)) inverted = true;  // also catches NaN geometry
-      area += weight;
+      // Strain rate and spin at the mid-step configuration x(n+1/2) = x(n+1) - dt/2 v(n+1/2)
+      // (second-order accurate, and what keeps the energy balance free of drift); forces at
+      // the current configuration x(n+1).
+      double bx[4], by[4];
+      qp_gradients<QP>(xm, ym, g, bx, by);
       double lxx = 0, lxy = 0, lyx = 0, lyy = 0;  // velocity gradient L_ij = dv_i/dx_j
       for (int a = 0; a < 4; ++a) {
         lxx += vx[a] * bx[a];
@@ -100,6 +115,9 @@ struct FeForces {
         lyx += vy[a] * bx[a];
         lyy += vy[a] * by[a];
       }
+      const double weight = qp_gradients<QP>(x, y, g, bx, by);
+      if (!(weight > 0.0)) inverted = true;  // also catches NaN geometry
+      area += weight;
       const int q = e * QP + g;
       double s[4] = {elements.stress(q, 0), elements.stress(q, 1), elements.stress(q, 2),
                      elements.stress(q, 3)};
@@ -107,7 +125,15 @@ struct FeForces {
       const double deps[3] = {lxx * p.dt, lyy * p.dt, 0.5 * (lxy + lyx) * p.dt};
       double epeq = elements.epeq(q);
       const double volume = weight * p.thickness;
+      const double s_old[4] = {s[0], s[1], s[2], s[3]};
       plastic += update_stress(mat, deps, s, epeq) * volume;
+      // Stress work by the trapezoidal rule (as the nodal work of central differences):
+      // dW = (s(n) + s(n+1))/2 : deps * V(n+1/2). In plane strain deps_zz = 0; in plane
+      // stress s_zz = 0, so the in-plane terms are the whole product.
+      strain_work += 0.5 *
+                     ((s_old[0] + s[0]) * deps[0] + (s_old[1] + s[1]) * deps[1] +
+                      2.0 * (s_old[3] + s[3]) * deps[2]) *
+                     0.5 * (elements.qp_volume(q) + volume);
       for (int k = 0; k < 4; ++k) elements.stress(q, k) = s[k];
       elements.epeq(q) = epeq;
       elements.qp_volume(q) = volume;
@@ -119,8 +145,10 @@ struct FeForces {
       if (div < 0.0 && weight > 0.0) {
         const double l = sqrt_(weight * QP);
         qv = mat.density * l * (p.bulk_quadratic * l * div * div - p.bulk_linear * c * div);
-        viscous += -qv * div * volume * p.dt;
       }
+      // Trapezoidal work of the viscous pressure (see the hourglass work below).
+      viscous += -0.5 * (elements.bulk_viscosity(q) + qv) * div * volume * p.dt;
+      elements.bulk_viscosity(q) = qv;
       div_rate = div_rate < div ? div_rate : div;
       const double sxx = s[0] - qv, syy = s[1] - qv, sxy = s[3];
       for (int a = 0; a < 4; ++a) {
@@ -163,8 +191,14 @@ struct FeForces {
           gx = cv * qdot_x;
           gy = cv * qdot_y;
         }
-        // Power absorbed by the hourglass forces: -sum_a f_a . v_a = g . qdot.
-        elements.hourglass_work(e) += (gx * qdot_x + gy * qdot_y) * p.dt;
+        // Work of the hourglass forces by the trapezoidal rule dW = (g(n) + g(n+1))/2 . dq,
+        // the rule under which central differences conserve energy exactly up to a bounded
+        // O(dt^2) term (exact for the stiffness form's stored energy k q^2 / 2).
+        elements.hourglass_work(e) += 0.5 * ((elements.hourglass_force(e, 0) + gx) * qdot_x +
+                                             (elements.hourglass_force(e, 1) + gy) * qdot_y) *
+                                      p.dt;
+        elements.hourglass_force(e, 0) = gx;
+        elements.hourglass_force(e, 1) = gy;
         for (int a = 0; a < 4; ++a) {
           fx[a] -= gx * gamma[a];
           fy[a] -= gy * gamma[a];
@@ -202,6 +236,7 @@ struct FeForces {
       Kokkos::atomic_add(&nodes.f(n[a], 1), fy[a]);
     }
     elements.plastic_work(e) += plastic;
+    elements.strain_work(e) += strain_work;
     elements.viscous_work(e) += viscous;
     if (inverted) dt_min = -1.0;  // signals an inverted element to the host
   }

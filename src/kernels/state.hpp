@@ -38,8 +38,11 @@ struct Elements {
   View<double* [4]> stress;  // Cauchy stress (Pa): xx, yy, zz, xy
   View<double*> epeq;        // equivalent plastic strain (paper Eq. 13)
   View<double*> qp_volume;   // current volume (m^3) the point represents
+  View<double*> bulk_viscosity;      // last artificial viscous pressure q (Pa)
   // Per element.
   View<double* [2]> hourglass_disp;  // stiffness-form hourglass generalized displacement (m)
+  View<double* [2]> hourglass_force; // last generalized hourglass force (N)
+  View<double*> strain_work;         // cumulative stress work (J): internal + plastic
   View<double*> plastic_work;        // cumulative (J)
   View<double*> hourglass_work;      // cumulative (J)
   View<double*> viscous_work;        // cumulative bulk-viscosity work (J)
