@@ -138,6 +138,17 @@ void build_probes(Model& model) {
 }  // namespace
 
 Model build_model(const Case& c) {
+  // Discrete elements, conversion and rigid bodies are not built yet: refuse, never ignore.
+  for (const Body& b : c.bodies) {
+    auto refuse = [&](BodyMethod m, const SourcePos& pos, const std::string& key) {
+      if (m != BodyMethod::fe)
+        throw InputError(pos.file, pos.line, key,
+                         std::string("method '") + to_string(m) +
+                             "' is not available in this version of fracta (only 'fe')");
+    };
+    refuse(b.method, b.pos, "body['" + b.name + "'].method");
+    for (const Region& r : b.regions) refuse(r.method, r.pos, "body['" + b.name + "'].region");
+  }
   Model model;
   model.scene = c;
   model.mesh = build_mesh(c);

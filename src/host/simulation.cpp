@@ -161,18 +161,23 @@ std::vector<ProbeRecord> Simulation::probe_records() {
   const auto& sites = model_.probes;
   std::vector<ProbeRecord> out(sites.size());
   if (sites.empty()) return out;
-  View<int*> node("fracta::probe_node", sites.size()), element("fracta::probe_element", sites.size());
-  auto nh = Kokkos::create_mirror_view(node);
-  auto eh = Kokkos::create_mirror_view(element);
-  for (size_t k = 0; k < sites.size(); ++k) {
-    nh(k) = sites[k].node;
-    eh(k) = sites[k].element;
+  if (probe_values_.extent(0) != sites.size()) {  // built once: views allocate
+    probe_node_ = View<int*>("fracta::probe_node", sites.size());
+    probe_element_ = View<int*>("fracta::probe_element", sites.size());
+    probe_values_ = View<double* [7]>("fracta::probe_values", sites.size());
+    auto nh = Kokkos::create_mirror_view(probe_node_);
+    auto eh = Kokkos::create_mirror_view(probe_element_);
+    for (size_t k = 0; k < sites.size(); ++k) {
+      nh(k) = sites[k].node;
+      eh(k) = sites[k].element;
+    }
+    Kokkos::deep_copy(probe_node_, nh);
+    Kokkos::deep_copy(probe_element_, eh);
   }
-  Kokkos::deep_copy(node, nh);
-  Kokkos::deep_copy(element, eh);
-  View<double* [7]> values("fracta::probe_values", sites.size());
+  const auto values = probe_values_;
   Kokkos::parallel_for("fracta::probe_gather", Kokkos::RangePolicy<ExecSpace>(0, sites.size()),
-                       ProbeGather{model_.nodes, model_.elements, node, element, values});
+                       ProbeGather{model_.nodes, model_.elements, probe_node_, probe_element_,
+                                   values});
   auto vh = Kokkos::create_mirror_view_and_copy(HostSpace(), values);
   for (size_t k = 0; k < sites.size(); ++k)
     out[k] = {time_, vh(k, 0), vh(k, 1), vh(k, 2), vh(k, 3), vh(k, 4), vh(k, 5), vh(k, 6)};

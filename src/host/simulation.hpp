@@ -44,6 +44,8 @@ class Simulation {
   long steps_ = 0;
   double external_work_ = 0.0, initial_energy_ = 0.0;
   std::string failure_;
+  View<int*> probe_node_, probe_element_;
+  View<double* [7]> probe_values_;
 
   struct Snapshot {
     Nodes nodes;

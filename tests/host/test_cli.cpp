@@ -1,0 +1,136 @@
+// The command line contract (DESIGN.md 3.1): exit codes and messages, run end to end.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code = -1;
+  std::string out;  // stdout + stderr
+};
+
+Result run(const std::string& args) {
+  const std::string cmd = std::string(FRACTA_EXE) + " " + args + " 2>&1";
+  Result r;
+  FILE* p = popen(cmd.c_str(), "r");
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string data(const std::string& rel) {
+  return std::string(FRACTA_SOURCE_DIR) + "/tests/data/" + rel;
+}
+
+// The line number a bad case file announces for its error: its own parser test knows it; here
+// every malformed file must give exit code 2 and a message that starts with its path and a line.
+TEST(Cli, EveryMalformedCaseExitsWithCode2NamingFileAndLine) {
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(data("bad"))) {
+    const std::string path = entry.path().string();
+    const Result r = run("check " + path);
+    EXPECT_EQ(r.code, 2) << path << "\n" << r.out;
+    EXPECT_NE(r.out.find("error: " + path + ":"), std::string::npos) << r.out;
+    ++count;
+  }
+  EXPECT_GE(count, 10);
+}
+
+TEST(Cli, RunRejectsBadInputWithCode2) {
+  const Result r = run("run " + data("bad/negative_density.toml") + " -o /tmp/fracta_cli_bad.h5");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("density"), std::string::npos) << r.out;
+  const Result missing = run("run /nonexistent/case.toml");
+  EXPECT_EQ(missing.code, 2);
+  const Result bad_set = run("check " + std::string(FRACTA_SOURCE_DIR) +
+                             "/cases/plate_fe.toml --set simulation.end_tme=1e-6");
+  EXPECT_EQ(bad_set.code, 2);
+  EXPECT_NE(bad_set.out.find("end_time"), std::string::npos) << bad_set.out;  // did you mean
+}
+
+TEST(Cli, FixedDtAboveStableBoundIsRefused) {
+  const Result r = run("check " + data("cli/dt_too_large.toml"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("dt_too_large.toml:5: simulation.dt"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("allow_unstable_dt"), std::string::npos) << r.out;
+}
+
+// An unstable scene stops with exit code 3; the output file opens, says the run failed and its
+// last frame holds a finite (last good) state.
+TEST(Cli, NumericalFailureExitsWithCode3AndKeepsLastGoodFrame) {
+  const std::string out = (fs::temp_directory_path() / "fracta_cli_unstable.h5").string();
+  fs::remove(out);
+  const Result r = run("run " + data("cli/unstable.toml") + " -o " + out);
+  ASSERT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("numerical failure"), std::string::npos) << r.out;
+
+  const hid_t f = H5Fopen(out.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  // /run status
+  const hid_t run_group = H5Gopen2(f, "/run", H5P_DEFAULT);
+  const hid_t attr = H5Aopen(run_group, "status", H5P_DEFAULT);
+  ASSERT_GE(attr, 0);
+  const hid_t type = H5Aget_type(attr);
+  std::string status;
+  if (H5Tis_variable_str(type) > 0) {
+    char* s = nullptr;
+    H5Aread(attr, type, &s);
+    status = s ? s : "";
+    H5free_memory(s);
+  }
+  EXPECT_EQ(status.rfind("failed", 0), 0u) << status;
+  H5Tclose(type);
+  H5Aclose(attr);
+  H5Gclose(run_group);
+  // The last frame is finite.
+  hsize_t nframes = 0;
+  const hid_t frames = H5Gopen2(f, "/frames", H5P_DEFAULT);
+  H5Gget_num_objs(frames, &nframes);
+  ASSERT_GE(nframes, 2u);
+  const std::string last = "/frames/" + std::to_string(nframes - 1) + "/node_velocity";
+  const hid_t ds = H5Dopen2(f, last.c_str(), H5P_DEFAULT);
+  ASSERT_GE(ds, 0);
+  const hid_t space = H5Dget_space(ds);
+  std::vector<double> v(H5Sget_simple_extent_npoints(space));
+  H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+  double vmax = 0;
+  for (double x : v) {
+    ASSERT_TRUE(std::isfinite(x));
+    vmax = std::max(vmax, std::fabs(x));
+  }
+  // Last good state: bounded by a generous multiple of the physical particle velocity
+  // p / (rho c) = 100e6 / (7800 * 5875) = 2.2 m/s; a blown-up state has grown by orders more.
+  EXPECT_LT(vmax, 1e3);
+  H5Sclose(space);
+  H5Dclose(ds);
+  H5Gclose(frames);
+  H5Fclose(f);
+}
+
+TEST(Cli, PlateCaseRunsAndInfoPrintsBackend) {
+  const Result info = run("info");
+  EXPECT_EQ(info.code, 0);
+  EXPECT_NE(info.out.find("execution space"), std::string::npos);
+  const std::string out = (fs::temp_directory_path() / "fracta_cli_plate.h5").string();
+  const Result r = run("run " + std::string(FRACTA_SOURCE_DIR) + "/cases/plate_fe.toml -o " + out +
+                       " --set simulation.end_time=4e-6");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(fs::exists(out));
+  EXPECT_TRUE(fs::exists(fs::path(out).replace_extension(".xdmf")));
+}
+
+}  // namespace
