@@ -667,7 +667,7 @@ void check_mc_general_path(bool plane_strain) {
   std::printf(
       "[info] MC %s general path: %d plastic steps (%d on the cone, %d on the cut-off), "
       "max f/k = %.3g, max (s1-T)/T = %.3g, "
-      "epeq-increment err = %.3g, epeq = %.3g\n",
+      "epeq-increment err (plane strain only) = %.3g, epeq = %.3g\n",
       plane_strain ? "plane-strain" : "plane-stress", plastic, on_cone, on_cutoff, max_f, max_t,
       max_ep, epeq);
 }
