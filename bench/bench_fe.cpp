@@ -60,7 +60,8 @@ void BM_FeStep(benchmark::State& state) {
     const auto t0 = std::chrono::steady_clock::now();
     sim.step();
     Kokkos::fence();
-    state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    state.SetIterationTime(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
   const double n = static_cast<double>(sim.model().elements.active_count);
   state.counters["elements"] = n;

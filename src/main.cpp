@@ -1,10 +1,10 @@
 // fracta command line (DESIGN.md 3.1): run | check | info.
 // Exit codes: 0 success, 2 bad input, 3 numerical failure (after writing the last good state).
+#include <unistd.h>
 #include <CLI/CLI.hpp>
 #include <Kokkos_Core.hpp>
 #include <cstdio>
 #include <cstdlib>
-#include <unistd.h>
 
 #include "host/case.hpp"
 #include "host/mesh.hpp"
@@ -24,8 +24,8 @@ int check_case(const fracta::Case& c) {
   using namespace fracta;
   const HostMesh mesh = build_mesh(c);
   std::printf("case %s: %s\n", c.path.c_str(), c.sim.title.c_str());
-  std::printf("  %s, thickness %g m, end time %g s\n", to_string(c.sim.formulation), c.sim.thickness,
-              c.sim.end_time);
+  std::printf("  %s, thickness %g m, end time %g s\n", to_string(c.sim.formulation),
+              c.sim.thickness, c.sim.end_time);
   for (const Material& m : c.materials)
     std::printf("  material %-12s %-12s rho %g kg/m^3, E %g Pa, nu %g\n", m.name.c_str(),
                 to_string(m.model), m.density, m.youngs_modulus, m.poisson_ratio);
@@ -37,20 +37,21 @@ int check_case(const fracta::Case& c) {
                 r.element_end - r.element_begin, r.cell_x * 1e3, r.cell_y * 1e3);
   }
   const int qp = c.sim.integration == Integration::full ? 4 : 1;
-  std::printf("  physics: FE (%s integration%s), bulk viscosity %g/%g; no bonds or contact "
-              "needed\n",
-              qp == 1 ? "one-point" : "2x2 Gauss",
-              qp == 1 ? (c.sim.hourglass == HourglassForm::viscous ? ", viscous hourglass control"
-                                                                   : ", stiffness hourglass control")
-                      : "",
-              c.sim.bulk_viscosity_linear, c.sim.bulk_viscosity_quadratic);
+  std::printf(
+      "  physics: FE (%s integration%s), bulk viscosity %g/%g; no bonds or contact "
+      "needed\n",
+      qp == 1 ? "one-point" : "2x2 Gauss",
+      qp == 1 ? (c.sim.hourglass == HourglassForm::viscous ? ", viscous hourglass control"
+                                                           : ", stiffness hourglass control")
+              : "",
+      c.sim.bulk_viscosity_linear, c.sim.bulk_viscosity_quadratic);
   std::printf("  loads %zu, boundary sets %zu, probes %zu, body probes %zu\n", c.loads.size(),
               c.boundaries.size(), c.probes.size(), c.body_probes.size());
   std::printf("  memory estimate %.1f MB\n",
               estimate_memory_bytes(mesh.node_count(), mesh.element_count(), qp) / 1e6);
   Simulation sim(c);
-  std::printf("  stable dt bound %.4g s; dt %.4g s (%s); about %.0f steps\n",
-              sim.stable_dt_bound(), sim.dt(), c.sim.dt > 0 ? "fixed" : "dt_safety x bound",
+  std::printf("  stable dt bound %.4g s; dt %.4g s (%s); about %.0f steps\n", sim.stable_dt_bound(),
+              sim.dt(), c.sim.dt > 0 ? "fixed" : "dt_safety x bound",
               c.sim.end_time / std::max(sim.dt(), 1e-300));
   std::printf("  output %s, fields:", c.output.file.c_str());
   for (const auto& f : c.output.fields) std::printf(" %s", f.c_str());

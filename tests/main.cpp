@@ -1,8 +1,8 @@
 // GoogleTest entry point: initialises Kokkos once, except when only listing tests (Kokkos 3.4
 // prints its OMP_PROC_BIND warning on stdout, which would corrupt ctest's test discovery).
+#include <gtest/gtest.h>
 #include <Kokkos_Core.hpp>
 #include <cstring>
-#include <gtest/gtest.h>
 
 int main(int argc, char** argv) {
   bool listing = false;

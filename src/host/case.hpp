@@ -132,10 +132,10 @@ struct BodyProbe {
 struct SimulationParams {
   std::string title;
   Formulation formulation = Formulation::plane_strain;
-  double thickness = 1.0;  // m; required for plane stress, default 1 for plane strain
-  double end_time = 0;     // s
-  double dt_safety = 0.85; // alpha of paper Eq. 19 (fraction of the stable step)
-  double dt = 0;           // s; 0 = automatic
+  double thickness = 1.0;          // m; required for plane stress, default 1 for plane strain
+  double end_time = 0;             // s
+  double dt_safety = 0.85;         // alpha of paper Eq. 19 (fraction of the stable step)
+  double dt = 0;                   // s; 0 = automatic
   bool allow_unstable_dt = false;  // expert switch: accept a fixed dt above the stable bound
   double output_interval = 0;      // s; 0 = only the first and last frame
   double history_interval = 0;     // s; 0 = every step
@@ -145,8 +145,8 @@ struct SimulationParams {
   double bulk_viscosity_linear = 0.06;
   double bulk_viscosity_quadratic = 1.5;
   double energy_error_limit = 0.5;  // relative error above which the run stops (exit 3)
-  SourcePos pos;     // the [simulation] table
-  SourcePos dt_pos;  // the `dt` key, when given
+  SourcePos pos;                    // the [simulation] table
+  SourcePos dt_pos;                 // the `dt` key, when given
 };
 
 struct OutputParams {

@@ -58,7 +58,8 @@ bool shape_contains(const Shape& s, double x, double y, double tol) {
       return std::hypot(x - s.x, y - s.y) <= s.radius + tol && along >= -tol;
     }
     case Shape::Type::polygon:
-      return polygon_contains(s.points, x, y) || (tol > 0 && polygon_distance(s.points, x, y) <= tol);
+      return polygon_contains(s.points, x, y) ||
+             (tol > 0 && polygon_distance(s.points, x, y) <= tol);
   }
   return false;
 }
@@ -76,7 +77,8 @@ std::array<double, 4> shape_bounds(const Shape& s) {
                             {s.x + r * std::sin(a), s.y - r * std::cos(a)}};
       for (int k = 0; k < 4; ++k) {
         const double b = k * kPi / 2;
-        if (std::cos(b - a) >= -1e-12) pts.push_back({s.x + r * std::cos(b), s.y + r * std::sin(b)});
+        if (std::cos(b - a) >= -1e-12)
+          pts.push_back({s.x + r * std::cos(b), s.y + r * std::sin(b)});
       }
       std::array<double, 4> bb{1e300, 1e300, -1e300, -1e300};
       for (auto& p : pts) {
@@ -141,7 +143,8 @@ HostMesh build_mesh(const Case& c) {
         for (int dj = -1; dj <= 0 && !used; ++dj)
           for (int di = -1; di <= 0 && !used; ++di) {
             const int ci = i + di, cj = j + dj;
-            used = ci >= 0 && cj >= 0 && ci < nx && cj < ny && keep[static_cast<size_t>(cj) * nx + ci];
+            used =
+                ci >= 0 && cj >= 0 && ci < nx && cj < ny && keep[static_cast<size_t>(cj) * nx + ci];
           }
         if (used) node_at(i, j);
       }
@@ -152,8 +155,8 @@ HostMesh build_mesh(const Case& c) {
         BodyMethod method = body.method;
         for (const Region& reg : body.regions)
           if (shape_contains(reg.shape, cx, cy)) method = reg.method;
-        m.element_nodes.push_back({node_at(i, j), node_at(i + 1, j), node_at(i + 1, j + 1),
-                                   node_at(i, j + 1)});
+        m.element_nodes.push_back(
+            {node_at(i, j), node_at(i + 1, j), node_at(i + 1, j + 1), node_at(i, j + 1)});
         m.element_body.push_back(static_cast<int>(b));
         m.element_material.push_back(body.material_index);
         m.element_method.push_back(method);
@@ -205,7 +208,8 @@ std::vector<std::array<int, 2>> select_edges(const HostMesh& m, const Segment& s
     if (body >= 0 && m.boundary_edge_body[k] != body) continue;
     const auto& pa = m.position[m.boundary_edges[k][0]];
     const auto& pb = m.position[m.boundary_edges[k][1]];
-    if (distance_to_segment(seg, pa[0], pa[1]) <= tol && distance_to_segment(seg, pb[0], pb[1]) <= tol)
+    if (distance_to_segment(seg, pa[0], pa[1]) <= tol &&
+        distance_to_segment(seg, pb[0], pb[1]) <= tol)
       out.push_back(m.boundary_edges[k]);
   }
   return out;

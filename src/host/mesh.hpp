@@ -17,7 +17,7 @@ struct BodyRange {
 };
 
 struct HostMesh {
-  std::vector<Vec2> position;            // reference node positions (m)
+  std::vector<Vec2> position;  // reference node positions (m)
   std::vector<int> node_body;
   std::vector<std::array<int, 4>> element_nodes;  // counter-clockwise
   std::vector<int> element_body;

@@ -43,8 +43,7 @@ struct ProbeGather {
 
 template <class V>
 V clone(const V& src) {
-  V dst(Kokkos::view_alloc(Kokkos::WithoutInitializing, src.label() + "_snapshot"),
-        src.layout());
+  V dst(Kokkos::view_alloc(Kokkos::WithoutInitializing, src.label() + "_snapshot"), src.layout());
   Kokkos::deep_copy(dst, src);
   return dst;
 }
@@ -126,8 +125,8 @@ HistoryRecord Simulation::history() {
   r.dt = dt_;
   r.step = steps_;
   // The nominal step (not the last one shortened to land on end_time).
-  const double dt_nominal = model_.scene.sim.dt > 0 ? model_.scene.sim.dt
-                                                    : model_.scene.sim.dt_safety * dt_bound_;
+  const double dt_nominal =
+      model_.scene.sim.dt > 0 ? model_.scene.sim.dt : model_.scene.sim.dt_safety * dt_bound_;
   const NodeTotals nt = node_totals(model_.nodes, dt_nominal);
   const ElementTotals et = element_totals(model_.elements);
   r.energy.kinetic = nt.kinetic;
@@ -150,8 +149,9 @@ HistoryRecord Simulation::history() {
     failure_ = "non-finite energy at step " + std::to_string(steps_);
   else if (scale > 0.0 && steps_ > 10 && r.energy.error > model_.scene.sim.energy_error_limit) {
     std::ostringstream msg;
-    msg << "energy error " << r.energy.error << " exceeds simulation.energy_error_limit = "
-        << model_.scene.sim.energy_error_limit << " at step " << steps_ << " (instability?)";
+    msg << "energy error " << r.energy.error
+        << " exceeds simulation.energy_error_limit = " << model_.scene.sim.energy_error_limit
+        << " at step " << steps_ << " (instability?)";
     failure_ = msg.str();
   }
   return r;
@@ -175,9 +175,9 @@ std::vector<ProbeRecord> Simulation::probe_records() {
     Kokkos::deep_copy(probe_element_, eh);
   }
   const auto values = probe_values_;
-  Kokkos::parallel_for("fracta::probe_gather", Kokkos::RangePolicy<ExecSpace>(0, sites.size()),
-                       ProbeGather{model_.nodes, model_.elements, probe_node_, probe_element_,
-                                   values});
+  Kokkos::parallel_for(
+      "fracta::probe_gather", Kokkos::RangePolicy<ExecSpace>(0, sites.size()),
+      ProbeGather{model_.nodes, model_.elements, probe_node_, probe_element_, values});
   auto vh = Kokkos::create_mirror_view_and_copy(HostSpace(), values);
   for (size_t k = 0; k < sites.size(); ++k)
     out[k] = {time_, vh(k, 0), vh(k, 1), vh(k, 2), vh(k, 3), vh(k, 4), vh(k, 5), vh(k, 6)};
@@ -232,10 +232,10 @@ FrameData Simulation::frame(const std::vector<std::string>& fields) {
     f.element_stress.insert(f.element_stress.end(), s, s + 4);
     f.element_plastic_strain.push_back(ep);
     f.element_pressure.push_back(-(s[0] + s[1] + s[2]) / 3.0);
-    f.element_von_mises.push_back(std::sqrt(
-        0.5 * ((s[0] - s[1]) * (s[0] - s[1]) + (s[1] - s[2]) * (s[1] - s[2]) +
-               (s[2] - s[0]) * (s[2] - s[0])) +
-        3.0 * s[3] * s[3]));
+    f.element_von_mises.push_back(
+        std::sqrt(0.5 * ((s[0] - s[1]) * (s[0] - s[1]) + (s[1] - s[2]) * (s[1] - s[2]) +
+                         (s[2] - s[0]) * (s[2] - s[0])) +
+                  3.0 * s[3] * s[3]));
   }
   return f;
 }
@@ -319,7 +319,8 @@ int run_case(const Case& c, const RunOptions& opt) {
     const HistoryRecord h = sim.history();
     out.append_history(h);
     const auto probes = sim.probe_records();
-    for (size_t k = 0; k < probes.size(); ++k) out.append_probe(sim.model().probes[k].name, probes[k]);
+    for (size_t k = 0; k < probes.size(); ++k)
+      out.append_probe(sim.model().probes[k].name, probes[k]);
     const auto bprobes = sim.body_probe_records();
     for (size_t k = 0; k < bprobes.size(); ++k)
       out.append_body_probe(sim.model().body_probes[k].name, bprobes[k]);

@@ -56,7 +56,7 @@ class Simulation {
 };
 
 struct RunOptions {
-  std::string output_path;        // empty: the case's output.file
+  std::string output_path;           // empty: the case's output.file
   bool progress_on_terminal = true;  // a live progress line; plain log lines otherwise
   double log_interval_seconds = 10.0;
 };

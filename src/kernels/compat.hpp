@@ -21,11 +21,21 @@ KOKKOS_INLINE_FUNCTION double sqrt_(double a) {
   return Kokkos::Experimental::sqrt(a);
 #endif
 }
-KOKKOS_INLINE_FUNCTION double fabs_(double a) { return a < 0.0 ? -a : a; }
-KOKKOS_INLINE_FUNCTION double min_(double a, double b) { return a < b ? a : b; }
-KOKKOS_INLINE_FUNCTION double max_(double a, double b) { return a > b ? a : b; }
-KOKKOS_INLINE_FUNCTION int min_(int a, int b) { return a < b ? a : b; }
-KOKKOS_INLINE_FUNCTION int max_(int a, int b) { return a > b ? a : b; }
+KOKKOS_INLINE_FUNCTION double fabs_(double a) {
+  return a < 0.0 ? -a : a;
+}
+KOKKOS_INLINE_FUNCTION double min_(double a, double b) {
+  return a < b ? a : b;
+}
+KOKKOS_INLINE_FUNCTION double max_(double a, double b) {
+  return a > b ? a : b;
+}
+KOKKOS_INLINE_FUNCTION int min_(int a, int b) {
+  return a < b ? a : b;
+}
+KOKKOS_INLINE_FUNCTION int max_(int a, int b) {
+  return a > b ? a : b;
+}
 KOKKOS_INLINE_FUNCTION double atan2_(double y, double x) {
 #if KOKKOS_VERSION >= 40000
   return Kokkos::atan2(y, x);
@@ -47,6 +57,8 @@ KOKKOS_INLINE_FUNCTION double sin_(double a) {
   return Kokkos::Experimental::sin(a);
 #endif
 }
-KOKKOS_INLINE_FUNCTION bool isfinite_(double a) { return a - a == 0.0; }
+KOKKOS_INLINE_FUNCTION bool isfinite_(double a) {
+  return a - a == 0.0;
+}
 
 }  // namespace fracta

@@ -10,8 +10,8 @@
 namespace fracta {
 
 struct FeParams {
-  double thickness = 1.0;  // m (plane strain: the modelled depth)
-  double dt = 0.0;         // s, the step just taken (strain increment = D dt)
+  double thickness = 1.0;       // m (plane strain: the modelled depth)
+  double dt = 0.0;              // s, the step just taken (strain increment = D dt)
   int hourglass_stiffness = 0;  // 0 viscous, 1 stiffness form (Flanagan-Belytschko 1981)
   double hourglass_coefficient = 0.1;
   double bulk_linear = 0.06, bulk_quadratic = 1.5;
@@ -33,8 +33,7 @@ KOKKOS_INLINE_FUNCTION double q4_gradients(const double x[4], const double y[4],
                                            double eta, double bx[4], double by[4]) {
   const double dn_dxi[4] = {-0.25 * (1 - eta), 0.25 * (1 - eta), 0.25 * (1 + eta),
                             -0.25 * (1 + eta)};
-  const double dn_deta[4] = {-0.25 * (1 - xi), -0.25 * (1 + xi), 0.25 * (1 + xi),
-                             0.25 * (1 - xi)};
+  const double dn_deta[4] = {-0.25 * (1 - xi), -0.25 * (1 + xi), 0.25 * (1 + xi), 0.25 * (1 - xi)};
   double j11 = 0, j12 = 0, j21 = 0, j22 = 0;
   for (int a = 0; a < 4; ++a) {
     j11 += dn_dxi[a] * x[a];
@@ -177,7 +176,8 @@ struct FeForces {
         double gx, gy;  // generalized hourglass force
         if (p.hourglass_stiffness) {
           // k = kappa (P-wave modulus) t A sum(b.b): an element-size-independent stiffness.
-          const double k = p.hourglass_coefficient * mat.p_wave_modulus() * p.thickness * weight * b2;
+          const double k =
+              p.hourglass_coefficient * mat.p_wave_modulus() * p.thickness * weight * b2;
           double qx = elements.hourglass_disp(e, 0) + qdot_x * p.dt;
           double qy = elements.hourglass_disp(e, 1) + qdot_y * p.dt;
           elements.hourglass_disp(e, 0) = qx;
@@ -186,16 +186,17 @@ struct FeForces {
           gy = k * qy;
         } else {
           // Viscous: damping coefficient kappa rho c t A sqrt(sum b.b) (kg/s).
-          const double cv = p.hourglass_coefficient * mat.density * c * p.thickness * weight *
-                            sqrt_(b2);
+          const double cv =
+              p.hourglass_coefficient * mat.density * c * p.thickness * weight * sqrt_(b2);
           gx = cv * qdot_x;
           gy = cv * qdot_y;
         }
         // Work of the hourglass forces by the trapezoidal rule dW = (g(n) + g(n+1))/2 . dq,
         // the rule under which central differences conserve energy exactly up to a bounded
         // O(dt^2) term (exact for the stiffness form's stored energy k q^2 / 2).
-        elements.hourglass_work(e) += 0.5 * ((elements.hourglass_force(e, 0) + gx) * qdot_x +
-                                             (elements.hourglass_force(e, 1) + gy) * qdot_y) *
+        elements.hourglass_work(e) += 0.5 *
+                                      ((elements.hourglass_force(e, 0) + gx) * qdot_x +
+                                       (elements.hourglass_force(e, 1) + gy) * qdot_y) *
                                       p.dt;
         elements.hourglass_force(e, 0) = gx;
         elements.hourglass_force(e, 1) = gy;
@@ -225,9 +226,8 @@ struct FeForces {
         b2 += bxa * bxa + bya * bya;
       }
       const double l = A > 0.0 ? kFullIntegrationDtFactor / sqrt_(b2) : 0.0;
-      const double qs = div_rate < 0.0
-                            ? p.bulk_quadratic * sqrt_(area) * (-div_rate) + p.bulk_linear * c
-                            : 0.0;
+      const double qs =
+          div_rate < 0.0 ? p.bulk_quadratic * sqrt_(area) * (-div_rate) + p.bulk_linear * c : 0.0;
       const double dt_e = l / (qs + sqrt_(qs * qs + c * c));
       dt_min = dt_min < dt_e ? dt_min : dt_e;
     }
@@ -252,11 +252,12 @@ inline double compute_fe_forces(const Nodes& nodes, const Elements& elements,
   if (elements.active_count == 0) return dt_min;
   const auto policy = Kokkos::RangePolicy<ExecSpace>(0, elements.active_count);
   if (elements.qp_per_element == 1)
-    Kokkos::parallel_reduce("fracta::fe_forces", policy,
-                            FeForces<1>{nodes, elements, materials, p}, Kokkos::Min<double>(dt_min));
+    Kokkos::parallel_reduce("fracta::fe_forces", policy, FeForces<1>{nodes, elements, materials, p},
+                            Kokkos::Min<double>(dt_min));
   else
     Kokkos::parallel_reduce("fracta::fe_forces_full", policy,
-                            FeForces<4>{nodes, elements, materials, p}, Kokkos::Min<double>(dt_min));
+                            FeForces<4>{nodes, elements, materials, p},
+                            Kokkos::Min<double>(dt_min));
   return dt_min;
 }
 

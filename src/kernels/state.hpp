@@ -30,22 +30,22 @@ struct Elements {
   View<int* [4]> nodes;  // counter-clockwise
   View<int*> material;   // index into the MaterialLaw table
   View<int*> body;
-  View<int*> active;     // active element indices, increasing
-  int count = 0;         // all elements of the mesh
+  View<int*> active;  // active element indices, increasing
+  int count = 0;      // all elements of the mesh
   int active_count = 0;
   int qp_per_element = 1;  // 1 (reduced + hourglass control) or 4 (2x2 Gauss)
   // Per quadrature point.
-  View<double* [4]> stress;  // Cauchy stress (Pa): xx, yy, zz, xy
-  View<double*> epeq;        // equivalent plastic strain (paper Eq. 13)
-  View<double*> qp_volume;   // current volume (m^3) the point represents
-  View<double*> bulk_viscosity;      // last artificial viscous pressure q (Pa)
+  View<double* [4]> stress;      // Cauchy stress (Pa): xx, yy, zz, xy
+  View<double*> epeq;            // equivalent plastic strain (paper Eq. 13)
+  View<double*> qp_volume;       // current volume (m^3) the point represents
+  View<double*> bulk_viscosity;  // last artificial viscous pressure q (Pa)
   // Per element.
-  View<double* [2]> hourglass_disp;  // stiffness-form hourglass generalized displacement (m)
-  View<double* [2]> hourglass_force; // last generalized hourglass force (N)
-  View<double*> strain_work;         // cumulative stress work (J): internal + plastic
-  View<double*> plastic_work;        // cumulative (J)
-  View<double*> hourglass_work;      // cumulative (J)
-  View<double*> viscous_work;        // cumulative bulk-viscosity work (J)
+  View<double* [2]> hourglass_disp;   // stiffness-form hourglass generalized displacement (m)
+  View<double* [2]> hourglass_force;  // last generalized hourglass force (N)
+  View<double*> strain_work;          // cumulative stress work (J): internal + plastic
+  View<double*> plastic_work;         // cumulative (J)
+  View<double*> hourglass_work;       // cumulative (J)
+  View<double*> viscous_work;         // cumulative bulk-viscosity work (J)
 };
 
 // Piecewise-linear load tables, one per load, flattened: entries [offset[k], offset[k+1]).
