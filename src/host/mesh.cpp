@@ -109,8 +109,13 @@ HostMesh build_mesh(const Case& c) {
     const Body& body = c.bodies[b];
     const auto bb = shape_bounds(body.shape);
     const double w = bb[2] - bb[0], h = bb[3] - bb[1];
-    const int nx = std::max(1, static_cast<int>(std::lround(w / body.cell_size)));
-    const int ny = std::max(1, static_cast<int>(std::lround(h / body.cell_size)));
+    const int nx = static_cast<int>(std::lround(w / body.cell_size));
+    const int ny = static_cast<int>(std::lround(h / body.cell_size));
+    if (nx < 1 || ny < 1)  // fitting would silently change the cell size by more than 2x
+      throw InputError(body.pos.file, body.pos.line, "body['" + body.name + "'].cell_size",
+                       "the shape (" + std::to_string(w) + " x " + std::to_string(h) +
+                           " m) is smaller than one cell of " + std::to_string(body.cell_size) +
+                           " m");
     const double hx = w / nx, hy = h / ny;
     BodyRange r;
     r.node_begin = m.node_count();
@@ -164,7 +169,7 @@ HostMesh build_mesh(const Case& c) {
     r.node_end = m.node_count();
     r.element_end = m.element_count();
     if (r.element_end == r.element_begin)
-      throw InputError(body.pos.file, body.pos.line, "body '" + body.name + "'.shape",
+      throw InputError(body.pos.file, body.pos.line, "body['" + body.name + "'].shape",
                        "the shape covers no cell of size " + std::to_string(body.cell_size) +
                            " m (make cell_size smaller or the shape larger)");
     m.bodies.push_back(r);

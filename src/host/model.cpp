@@ -126,7 +126,7 @@ void build_probes(Model& model) {
         site.element = e;
     }
     if (site.node < 0)
-      throw InputError(p.pos.file, p.pos.line, "probe '" + p.name + "'", "no node to attach to");
+      throw InputError(p.pos.file, p.pos.line, "probe['" + p.name + "']", "no node to attach to");
     model.probes.push_back(site);
   }
   for (const BodyProbe& p : c.body_probes) {

@@ -1,0 +1,82 @@
+// Mesh generation: cell counts, staircased curved shapes, cuts, node and edge selection.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "host/mesh.hpp"
+#include "test_util.hpp"
+
+namespace fracta {
+namespace {
+
+double mesh_area(const HostMesh& m) {
+  double a = 0;
+  for (const auto& en : m.element_nodes) {
+    const auto &p0 = m.position[en[0]], &p1 = m.position[en[1]], &p2 = m.position[en[2]],
+               &p3 = m.position[en[3]];
+    a += 0.5 * ((p2[0] - p0[0]) * (p3[1] - p1[1]) + (p1[0] - p3[0]) * (p2[1] - p0[1]));
+  }
+  return a;
+}
+
+// The paper's plate: 32 x 64 cells of 0.9375 mm, (33 x 65) nodes, every element counter-clockwise.
+TEST(Mesh, RectangleHasExactCountsAndArea) {
+  Case c = test::rectangle_case(32, 64, 0.9375e-3);
+  const HostMesh m = build_mesh(c);
+  EXPECT_EQ(m.element_count(), 2048);
+  EXPECT_EQ(m.node_count(), 33 * 65);
+  EXPECT_NEAR(mesh_area(m), 0.03 * 0.06, 1e-15);
+  EXPECT_EQ(m.boundary_edges.size(), 2u * (32 + 64));
+}
+
+// A circle of radius R staircased by cells of h: the area converges to pi R^2 at O(h / R).
+TEST(Mesh, CircleAndSemicircleAreasConverge) {
+  Case c = test::rectangle_case(1, 1, 0.5e-3);
+  c.bodies[0].shape.type = Shape::Type::circle;
+  c.bodies[0].shape.radius = 0.02;
+  const double circle = mesh_area(build_mesh(c));
+  EXPECT_NEAR(circle, M_PI * 0.02 * 0.02, 0.02 * M_PI * 0.02 * 0.02);  // h/R = 2.5%
+  c.bodies[0].shape.type = Shape::Type::semicircle;                    // arc above the flat side
+  const HostMesh half = build_mesh(c);
+  EXPECT_NEAR(mesh_area(half), 0.5 * M_PI * 0.02 * 0.02, 0.03 * 0.5 * M_PI * 0.02 * 0.02);
+  for (const auto& p : half.position) EXPECT_GE(p[1], -1e-12);
+}
+
+// A notch cut (1 mm x 5 mm in 0.5 mm cells) removes exactly its 2 x 10 cells.
+TEST(Mesh, CutRemovesTheNotchCells) {
+  Case c = test::rectangle_case(40, 20, 0.5e-3);
+  Shape notch;
+  notch.type = Shape::Type::rectangle;
+  notch.x = 9.5e-3;
+  notch.y = 0.0;
+  notch.width = 1e-3;
+  notch.height = 5e-3;
+  c.bodies[0].cuts.push_back(notch);
+  const HostMesh m = build_mesh(c);
+  EXPECT_EQ(m.element_count(), 40 * 20 - 2 * 10);
+}
+
+TEST(Mesh, SegmentSelectsEdgeNodesAndEdges) {
+  Case c = test::rectangle_case(8, 4, 1e-3);
+  const HostMesh m = build_mesh(c);
+  NodeSelector left;
+  left.segment = test::segment(0, 0, 0, 4e-3);
+  EXPECT_EQ(select_nodes(m, left, 0).size(), 5u);
+  EXPECT_EQ(select_edges(m, left.segment, 0).size(), 4u);
+  NodeSelector box;
+  box.kind = NodeSelector::Kind::shape;
+  box.shape.width = 2e-3;
+  box.shape.height = 4e-3;
+  EXPECT_EQ(select_nodes(m, box, 0).size(), 3u * 5u);
+}
+
+TEST(Mesh, ShapeCoveringNoCellIsAnInputError) {
+  Case c = test::rectangle_case(1, 1, 1e-3);
+  c.bodies[0].shape.type = Shape::Type::circle;
+  c.bodies[0].shape.radius = 1e-4;  // smaller than half a cell: no cell centre inside
+  c.bodies[0].shape.x = 0.3e-3;
+  EXPECT_THROW(build_mesh(c), InputError);
+}
+
+}  // namespace
+}  // namespace fracta
