@@ -8,45 +8,24 @@
 #include <memory>
 
 #include "host/simulation.hpp"
+#include "test_util.hpp"  // scenes built in code, shared with the tests
 
 namespace {
 
+// A square steel block of about `elements` cells, pushed by 2 GPa on its left edge (enough to
+// drive bilinear_j2 into yield near the edge within the warm-up).
 fracta::Case block_case(long elements, bool plastic) {
   using namespace fracta;
   const int n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(elements))));
   const double h = 1e-3;
-  Case c;
-  c.path = "<bench>";
-  c.sim.formulation = Formulation::plane_strain;
+  Case c = test::rectangle_case(n, n, h, 232e9, 0.3, 7800.0);
   c.sim.end_time = 1.0;  // never reached: the benchmark decides the number of steps
-  Material m;
-  m.name = "steel";
-  m.model = plastic ? MaterialModel::bilinear_j2 : MaterialModel::elastic;
-  m.density = 7800;
-  m.youngs_modulus = 232e9;
-  m.poisson_ratio = 0.3;
-  m.yield_stress = 235e6;
-  m.plastic_modulus = 1.879e9;
-  c.materials.push_back(m);
-  Body b;
-  b.name = "block";
-  b.material = "steel";
-  b.material_index = 0;
-  b.cell_size = h;
-  b.shape.width = n * h;
-  b.shape.height = n * h;
-  // A velocity gradient strong enough to drive the plastic model into yield within steps.
-  b.initial_velocity = {0, 0};
-  c.bodies.push_back(b);
-  Load l;
-  l.type = Load::Type::pressure;
-  l.body = "block";
-  l.body_index = 0;
-  l.where.segment.from = {0, 0};
-  l.where.segment.to = {0, n * h};
-  l.time = {0.0};
-  l.value = {2e9};
-  c.loads.push_back(l);
+  if (plastic) {
+    c.materials[0].model = MaterialModel::bilinear_j2;
+    c.materials[0].yield_stress = 235e6;
+    c.materials[0].plastic_modulus = 1.879e9;
+  }
+  test::add_pressure(c, test::segment(0, 0, 0, n * h), {0.0}, {2e9});
   return c;
 }
 

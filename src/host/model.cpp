@@ -39,6 +39,17 @@ View<T*> to_device_1d(const std::string& label, const HostVec& h) {
   return d;
 }
 
+// Rows of N values per item, e.g. the 2 nodes of an edge or the 4 nodes of an element.
+template <class T, size_t N>
+View<T* [N]> to_device_rows(const std::string& label, const std::vector<std::array<T, N>>& h) {
+  View<T* [N]> d(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::" + label), h.size());
+  auto m = Kokkos::create_mirror_view(d);
+  for (size_t i = 0; i < h.size(); ++i)
+    for (size_t k = 0; k < N; ++k) m(i, k) = h[i][k];
+  Kokkos::deep_copy(d, m);
+  return d;
+}
+
 void build_loads(Model& model) {
   const Case& c = model.scene;
   std::vector<double> t, v;
@@ -80,26 +91,14 @@ void build_loads(Model& model) {
 
   auto& pe = model.pressure_edges;
   pe.count = static_cast<int>(edges.size());
-  pe.nodes = View<int* [2]>("fracta::pressure_edge_nodes", edges.size());
-  auto pe_h = Kokkos::create_mirror_view(pe.nodes);
-  for (size_t i = 0; i < edges.size(); ++i) {
-    pe_h(i, 0) = edges[i][0];
-    pe_h(i, 1) = edges[i][1];
-  }
-  Kokkos::deep_copy(pe.nodes, pe_h);
+  pe.nodes = to_device_rows("pressure_edge_nodes", edges);
   pe.load = to_device_1d<int>("pressure_edge_load", edge_load);
 
   auto& nf = model.nodal_forces;
   nf.count = static_cast<int>(force_node.size());
   nf.node = to_device_1d<int>("nodal_force_node", force_node);
   nf.load = to_device_1d<int>("nodal_force_load", force_load);
-  nf.force_per_unit = View<double* [2]>("fracta::nodal_force_unit", force_unit.size());
-  auto nf_h = Kokkos::create_mirror_view(nf.force_per_unit);
-  for (size_t i = 0; i < force_unit.size(); ++i) {
-    nf_h(i, 0) = force_unit[i][0];
-    nf_h(i, 1) = force_unit[i][1];
-  }
-  Kokkos::deep_copy(nf.force_per_unit, nf_h);
+  nf.force_per_unit = to_device_rows("nodal_force_unit", force_unit);
 }
 
 void build_probes(Model& model) {
@@ -226,13 +225,7 @@ Model build_model(const Case& c) {
   el.count = ne;
   el.active_count = ne;
   el.qp_per_element = qp;
-  el.nodes = View<int* [4]>("fracta::element_nodes", ne);
-  {
-    auto h = Kokkos::create_mirror_view(el.nodes);
-    for (int e = 0; e < ne; ++e)
-      for (int a = 0; a < 4; ++a) h(e, a) = m.element_nodes[e][a];
-    Kokkos::deep_copy(el.nodes, h);
-  }
+  el.nodes = to_device_rows("element_nodes", m.element_nodes);
   el.material = to_device_1d<int>("element_material", m.element_material);
   el.body = to_device_1d<int>("element_body", m.element_body);
   std::vector<int> active(ne);

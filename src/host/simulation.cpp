@@ -240,38 +240,39 @@ FrameData Simulation::frame(const std::vector<std::string>& fields) {
   return f;
 }
 
+// Calls f(model_view, snapshot_view) for every view a step mutates; the one list that
+// snapshot allocation, saving and restoring share.
+template <class F>
+void for_each_state_view(Nodes& n, Elements& e, Nodes& sn, Elements& se, F&& f) {
+  f(n.x, sn.x);
+  f(n.v, sn.v);
+  f(n.f, sn.f);
+  f(n.f_ext, sn.f_ext);
+  f(e.stress, se.stress);
+  f(e.epeq, se.epeq);
+  f(e.qp_volume, se.qp_volume);
+  f(e.bulk_viscosity, se.bulk_viscosity);
+  f(e.hourglass_disp, se.hourglass_disp);
+  f(e.hourglass_force, se.hourglass_force);
+  f(e.strain_work, se.strain_work);
+  f(e.plastic_work, se.plastic_work);
+  f(e.hourglass_work, se.hourglass_work);
+  f(e.viscous_work, se.viscous_work);
+}
+
 void Simulation::save_snapshot() {
-  if (snapshot_.steps < 0) {
+  const bool first = snapshot_.steps < 0;
+  if (first) {
     snapshot_.nodes = model_.nodes;
-    snapshot_.nodes.x = clone(model_.nodes.x);
-    snapshot_.nodes.v = clone(model_.nodes.v);
-    snapshot_.nodes.f = clone(model_.nodes.f);
     snapshot_.elements = model_.elements;
-    snapshot_.elements.stress = clone(model_.elements.stress);
-    snapshot_.elements.epeq = clone(model_.elements.epeq);
-    snapshot_.elements.qp_volume = clone(model_.elements.qp_volume);
-    snapshot_.elements.hourglass_disp = clone(model_.elements.hourglass_disp);
-    snapshot_.elements.strain_work = clone(model_.elements.strain_work);
-    snapshot_.elements.bulk_viscosity = clone(model_.elements.bulk_viscosity);
-    snapshot_.elements.hourglass_force = clone(model_.elements.hourglass_force);
-    snapshot_.elements.plastic_work = clone(model_.elements.plastic_work);
-    snapshot_.elements.hourglass_work = clone(model_.elements.hourglass_work);
-    snapshot_.elements.viscous_work = clone(model_.elements.viscous_work);
-  } else {
-    Kokkos::deep_copy(snapshot_.nodes.x, model_.nodes.x);
-    Kokkos::deep_copy(snapshot_.nodes.v, model_.nodes.v);
-    Kokkos::deep_copy(snapshot_.nodes.f, model_.nodes.f);
-    Kokkos::deep_copy(snapshot_.elements.stress, model_.elements.stress);
-    Kokkos::deep_copy(snapshot_.elements.epeq, model_.elements.epeq);
-    Kokkos::deep_copy(snapshot_.elements.qp_volume, model_.elements.qp_volume);
-    Kokkos::deep_copy(snapshot_.elements.hourglass_disp, model_.elements.hourglass_disp);
-    Kokkos::deep_copy(snapshot_.elements.strain_work, model_.elements.strain_work);
-    Kokkos::deep_copy(snapshot_.elements.bulk_viscosity, model_.elements.bulk_viscosity);
-    Kokkos::deep_copy(snapshot_.elements.hourglass_force, model_.elements.hourglass_force);
-    Kokkos::deep_copy(snapshot_.elements.plastic_work, model_.elements.plastic_work);
-    Kokkos::deep_copy(snapshot_.elements.hourglass_work, model_.elements.hourglass_work);
-    Kokkos::deep_copy(snapshot_.elements.viscous_work, model_.elements.viscous_work);
   }
+  for_each_state_view(model_.nodes, model_.elements, snapshot_.nodes, snapshot_.elements,
+                      [first](const auto& live, auto& saved) {
+                        if (first)
+                          saved = clone(live);
+                        else
+                          Kokkos::deep_copy(saved, live);
+                      });
   snapshot_.time = time_;
   snapshot_.dt = dt_;
   snapshot_.dt_bound = dt_bound_;
@@ -280,19 +281,8 @@ void Simulation::save_snapshot() {
 }
 
 void Simulation::restore_snapshot() {
-  Kokkos::deep_copy(model_.nodes.x, snapshot_.nodes.x);
-  Kokkos::deep_copy(model_.nodes.v, snapshot_.nodes.v);
-  Kokkos::deep_copy(model_.nodes.f, snapshot_.nodes.f);
-  Kokkos::deep_copy(model_.elements.stress, snapshot_.elements.stress);
-  Kokkos::deep_copy(model_.elements.epeq, snapshot_.elements.epeq);
-  Kokkos::deep_copy(model_.elements.qp_volume, snapshot_.elements.qp_volume);
-  Kokkos::deep_copy(model_.elements.hourglass_disp, snapshot_.elements.hourglass_disp);
-  Kokkos::deep_copy(model_.elements.strain_work, snapshot_.elements.strain_work);
-  Kokkos::deep_copy(model_.elements.bulk_viscosity, snapshot_.elements.bulk_viscosity);
-  Kokkos::deep_copy(model_.elements.hourglass_force, snapshot_.elements.hourglass_force);
-  Kokkos::deep_copy(model_.elements.plastic_work, snapshot_.elements.plastic_work);
-  Kokkos::deep_copy(model_.elements.hourglass_work, snapshot_.elements.hourglass_work);
-  Kokkos::deep_copy(model_.elements.viscous_work, snapshot_.elements.viscous_work);
+  for_each_state_view(model_.nodes, model_.elements, snapshot_.nodes, snapshot_.elements,
+                      [](const auto& live, const auto& saved) { Kokkos::deep_copy(live, saved); });
   time_ = snapshot_.time;
   dt_ = snapshot_.dt;
   dt_bound_ = snapshot_.dt_bound;
