@@ -2,6 +2,10 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
+#include <sstream>
+
+#include "kernels/conversion.hpp"
 
 namespace fracta {
 
@@ -134,20 +138,195 @@ void build_probes(Model& model) {
   }
 }
 
+bool convertible(BodyMethod m) {
+  return m == BodyMethod::de || m == BodyMethod::adaptive;
+}
+
+// The bonded lattice is isotropic only for nu <= 1/3 (plane stress) or nu <= 1/4 (plane
+// strain): above, the shear spring ks would be negative (DESIGN.md 1.2).
+void check_lattice_range(const Case& c) {
+  const bool plane_strain = c.sim.formulation == Formulation::plane_strain;
+  for (const Body& b : c.bodies) {
+    bool uses_lattice = convertible(b.method);
+    for (const Region& r : b.regions) uses_lattice = uses_lattice || convertible(r.method);
+    if (!uses_lattice) continue;
+    const Material& mat = c.materials[b.material_index];
+    const double nu = mat.poisson_ratio;
+    const double nu_eff = plane_strain ? nu / (1.0 - nu) : nu;
+    if (nu_eff > 1.0 / 3.0 + 1e-12) {
+      std::ostringstream msg;
+      msg << "body '" << b.name << "' becomes bonded discs, but the disc lattice reproduces "
+          << "Poisson's ratio only up to 1/3 in plane stress and 1/4 in plane strain; material '"
+          << mat.name << "' has nu = " << nu << " (" << to_string(c.sim.formulation)
+          << "). Use method = \"fe\" for this body, or plane stress";
+      throw InputError(b.pos.file, b.pos.line, "body['" + b.name + "'].method", msg.str());
+    }
+  }
+}
+
+bool needs_particles(const Case& c) {
+  for (const Body& b : c.bodies) {
+    if (convertible(b.method)) return true;
+    for (const Region& r : b.regions)
+      if (convertible(r.method)) return true;
+  }
+  return false;
+}
+
+// Bond slots (every edge once, then every diagonal of the elements of convertible bodies),
+// particle views, the topology for contact exclusion, and the time-0 conversion of de parts.
+void build_lattice(Model& model, const std::vector<int>& converted) {
+  const Case& c = model.scene;
+  const HostMesh& m = model.mesh;
+  const int nn = m.node_count(), ne = m.element_count();
+  const bool plane_strain = c.sim.formulation == Formulation::plane_strain;
+
+  std::vector<std::array<int, 2>> slot_nodes;
+  std::vector<int> slot_kind;
+  std::vector<std::array<int, 6>> element_slots(ne);
+  std::map<std::pair<int, int>, int> edge_slot;
+  for (int e = 0; e < ne; ++e) {
+    element_slots[e].fill(-1);
+    const Body& body = c.bodies[m.element_body[e]];
+    bool lattice = convertible(body.method);
+    for (const Region& r : body.regions) lattice = lattice || convertible(r.method);
+    if (!lattice) continue;
+    const auto& en = m.element_nodes[e];
+    for (int a = 0; a < 4; ++a) {
+      const int p = en[a], q = en[(a + 1) % 4];
+      const auto key = std::make_pair(std::min(p, q), std::max(p, q));
+      auto it = edge_slot.find(key);
+      if (it == edge_slot.end()) {
+        it = edge_slot.emplace(key, static_cast<int>(slot_nodes.size())).first;
+        slot_nodes.push_back({key.first, key.second});
+        slot_kind.push_back(kBondEdge);
+      }
+      element_slots[e][a] = it->second;
+    }
+  }
+  for (int e = 0; e < ne; ++e) {
+    if (element_slots[e][0] < 0) continue;
+    const auto& en = m.element_nodes[e];
+    for (int d = 0; d < 2; ++d) {
+      element_slots[e][4 + d] = static_cast<int>(slot_nodes.size());
+      slot_nodes.push_back({en[d], en[d + 2]});
+      slot_kind.push_back(kBondDiagonal);
+    }
+  }
+
+  Bonds& bonds = model.bonds;
+  const int nb = static_cast<int>(slot_nodes.size());
+  bonds.count = nb;
+  bonds.nodes = to_device_rows("bond_nodes", slot_nodes);
+  bonds.kind = to_device_1d<int>("bond_kind", slot_kind);
+  std::vector<double> length0(nb);
+  for (int b = 0; b < nb; ++b) {
+    const auto& p = m.position[slot_nodes[b][0]];
+    const auto& q = m.position[slot_nodes[b][1]];
+    length0[b] = std::hypot(q[0] - p[0], q[1] - p[1]);
+  }
+  bonds.length0 = to_device_1d<double>("bond_length0", length0);
+  bonds.material = View<int*>("fracta::bond_material", nb);
+  bonds.state = View<int*>("fracta::bond_state", nb);
+  bonds.kn = View<double*>("fracta::bond_kn", nb);
+  bonds.ks = View<double*>("fracta::bond_ks", nb);
+  bonds.area = View<double*>("fracta::bond_area", nb);
+  bonds.fn = View<double*>("fracta::bond_fn", nb);
+  bonds.fs = View<double*>("fracta::bond_fs", nb);
+  bonds.plastic_n = View<double*>("fracta::bond_plastic_n", nb);
+  bonds.plastic_s = View<double*>("fracta::bond_plastic_s", nb);
+  bonds.hardening = View<double*>("fracta::bond_hardening", nb);
+  bonds.plastic_work = View<double*>("fracta::bond_plastic_work", nb);
+  model.element_bonds = to_device_rows("element_bonds", element_slots);
+
+  // Per-material lattice stiffness and bond law.
+  std::vector<LatticeStiffness> stiffness;
+  std::vector<BondLaw> laws;
+  for (const Material& mat : c.materials) {
+    const LatticeStiffness s =
+        lattice_stiffness(mat.youngs_modulus, mat.poisson_ratio, plane_strain, c.sim.thickness);
+    stiffness.push_back(s);
+    BondLaw law;
+    law.youngs_modulus_eff = s.youngs_modulus_eff;
+    law.tensile_strength = mat.tensile_strength;
+    if (mat.model == MaterialModel::bilinear_j2) {
+      law.yield_stress = mat.yield_stress;
+      law.hardening = mat.plastic_modulus;
+    }
+    if (mat.model == MaterialModel::mohr_coulomb) {
+      law.cohesion = mat.cohesion;
+      law.tan_friction = std::tan(mat.friction_angle);
+    }
+    laws.push_back(law);
+  }
+  model.lattice_stiffness = to_device_1d<LatticeStiffness>("lattice_stiffness", stiffness);
+  model.bond_laws = to_device_1d<BondLaw>("bond_laws", laws);
+
+  // Particle views of the nodes: radius half the cell, inertia m r^2 / 2, lambda k1.
+  Nodes& nodes = model.nodes;
+  nodes.particle = View<int*>("fracta::node_particle", nn);
+  nodes.rotation = View<double*>("fracta::node_rotation", nn);
+  nodes.spin = View<double*>("fracta::node_spin", nn);
+  nodes.moment = View<double*>("fracta::node_moment", nn);
+  {
+    std::vector<double> radius(nn), inertia(nn), kc(nn);
+    auto mass = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.mass);
+    for (int n = 0; n < nn; ++n) {
+      const BodyRange& r = m.bodies[m.node_body[n]];
+      const Body& body = c.bodies[m.node_body[n]];
+      radius[n] = 0.5 * std::min(r.cell_x, r.cell_y);
+      inertia[n] = 0.5 * mass(n) * radius[n] * radius[n];
+      kc[n] = c.contact.stiffness_factor * stiffness[body.material_index].k1;
+    }
+    nodes.radius = to_device_1d<double>("node_radius", radius);
+    nodes.inertia = to_device_1d<double>("node_inertia", inertia);
+    nodes.contact_stiffness = to_device_1d<double>("node_contact_stiffness", kc);
+  }
+
+  // Topology (node -> bonds, node -> elements) for contact exclusion.
+  auto csr = [nn](const std::vector<std::vector<int>>& lists, const std::string& label,
+                  View<int*>& offset, View<int*>& ids) {
+    std::vector<int> off(nn + 1, 0), flat;
+    for (int n = 0; n < nn; ++n) {
+      off[n + 1] = off[n] + static_cast<int>(lists[n].size());
+      flat.insert(flat.end(), lists[n].begin(), lists[n].end());
+    }
+    offset = to_device_1d<int>(label + "_offset", off);
+    ids = to_device_1d<int>(label, flat);
+  };
+  std::vector<std::vector<int>> node_bonds(nn), node_elements(nn);
+  for (int b = 0; b < nb; ++b)
+    for (int s = 0; s < 2; ++s) node_bonds[slot_nodes[b][s]].push_back(b);
+  for (int e = 0; e < ne; ++e)
+    for (int a = 0; a < 4; ++a) node_elements[m.element_nodes[e][a]].push_back(e);
+  Topology& topo = model.topology;
+  csr(node_bonds, "node_bond", topo.node_bond_offset, topo.node_bond);
+  csr(node_elements, "node_element", topo.node_element_offset, topo.node_element);
+  topo.element_alive = model.elements.alive;
+  topo.bond_nodes = bonds.nodes;
+  topo.bond_state = bonds.state;
+
+  // de parts: converted at time 0.
+  const View<int*> conv = to_device_1d<int>("converted_elements", converted);
+  activate_element_bonds(conv, static_cast<int>(converted.size()), model.element_bonds,
+                         model.lattice_stiffness, model.elements, nodes, bonds);
+}
+
 }  // namespace
 
 Model build_model(const Case& c) {
-  // Discrete elements, conversion and rigid bodies are not built yet: refuse, never ignore.
+  // Adaptive conversion and rigid bodies are not built yet: refuse, never ignore.
   for (const Body& b : c.bodies) {
     auto refuse = [&](BodyMethod m, const SourcePos& pos, const std::string& key) {
-      if (m != BodyMethod::fe)
+      if (m == BodyMethod::adaptive || m == BodyMethod::rigid)
         throw InputError(pos.file, pos.line, key,
                          std::string("method '") + to_string(m) +
-                             "' is not available in this version of fracta (only 'fe')");
+                             "' is not available in this version of fracta (only 'fe' and 'de')");
     };
     refuse(b.method, b.pos, "body['" + b.name + "'].method");
     for (const Region& r : b.regions) refuse(r.method, r.pos, "body['" + b.name + "'].region");
   }
+  check_lattice_range(c);
   Model model;
   model.scene = c;
   model.mesh = build_mesh(c);
@@ -220,17 +399,25 @@ Model build_model(const Case& c) {
     Kokkos::deep_copy(nodes.fixed, fixed);
   }
 
-  // Elements: every element starts active (conversion comes with the DE issue).
+  // Elements: those of fe parts are active; de parts are converted at time 0 (below).
   Elements& el = model.elements;
   el.count = ne;
-  el.active_count = ne;
   el.qp_per_element = qp;
   el.nodes = to_device_rows("element_nodes", m.element_nodes);
   el.material = to_device_1d<int>("element_material", m.element_material);
   el.body = to_device_1d<int>("element_body", m.element_body);
-  std::vector<int> active(ne);
-  for (int e = 0; e < ne; ++e) active[e] = e;
+  std::vector<int> active, converted, alive(ne, 0);
+  for (int e = 0; e < ne; ++e) {
+    if (m.element_method[e] == BodyMethod::de) {
+      converted.push_back(e);
+    } else {
+      active.push_back(e);
+      alive[e] = 1;
+    }
+  }
   el.active = to_device_1d<int>("element_active", active);
+  el.active_count = static_cast<int>(active.size());
+  el.alive = to_device_1d<int>("element_alive", alive);
   el.stress = View<double* [4]>("fracta::qp_stress", static_cast<size_t>(ne) * qp);
   el.epeq = View<double*>("fracta::qp_epeq", static_cast<size_t>(ne) * qp);
   el.qp_volume = View<double*>("fracta::qp_volume", static_cast<size_t>(ne) * qp);
@@ -250,6 +437,7 @@ Model build_model(const Case& c) {
 
   build_loads(model);
   build_probes(model);
+  if (needs_particles(c)) build_lattice(model, converted);
   return model;
 }
 

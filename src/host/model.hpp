@@ -5,6 +5,8 @@
 
 #include "host/case.hpp"
 #include "host/mesh.hpp"
+#include "kernels/bond_forces.hpp"
+#include "kernels/conversion.hpp"
 #include "kernels/fe_forces.hpp"
 #include "kernels/state.hpp"
 
@@ -32,6 +34,12 @@ struct Model {
   PressureEdges pressure_edges;
   NodalForces nodal_forces;
   FeParams fe;
+  // The bonded lattice (empty when no body can become discs).
+  Bonds bonds;
+  Topology topology;
+  View<int* [6]> element_bonds;  // bond slots of each element: 4 edges, 2 diagonals (-1: none)
+  View<LatticeStiffness*> lattice_stiffness;  // per material
+  View<BondLaw*> bond_laws;                   // per material
   std::vector<ProbeSite> probes;
   std::vector<BodyProbeSite> body_probes;
 };

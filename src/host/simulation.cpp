@@ -63,11 +63,12 @@ std::string format_duration(double s) {
 
 Simulation::Simulation(const Case& c) : model_(build_model(c)) {
   // Initial forces (dt = 0: no strain increment) give f(0) and the first stable step.
-  FeParams p = model_.fe;
-  p.dt = 0.0;
+  // The bond network's bound: bonds only weaken or break, so it stays valid until a conversion
+  // adds stiffness; it allows 6 contacts per disc.
+  bond_dt_bound_ = bond_stable_dt(model_.nodes, model_.bonds, 6);
   apply_loads(model_.nodes, model_.tables, model_.pressure_edges, model_.nodal_forces,
               c.sim.thickness, 0.0);
-  dt_bound_ = compute_fe_forces(model_.nodes, model_.elements, model_.materials, p);
+  dt_bound_ = evaluate_forces(0.0);
   if (dt_bound_ <= 0.0)
     throw InputError(c.path, c.sim.pos.line, "body", "an element has zero or negative area");
   if (c.sim.dt > 0.0 && c.sim.dt > dt_bound_ && !c.sim.allow_unstable_dt) {
@@ -85,6 +86,25 @@ Simulation::Simulation(const Case& c) : model_(build_model(c)) {
   save_snapshot();
 }
 
+double Simulation::evaluate_forces(double dt) {
+  Model& m = model_;
+  FeParams p = m.fe;
+  p.dt = dt;
+  double bound;
+  {
+    ProfilingRegion region("fracta::fe_forces");
+    bound = compute_fe_forces(m.nodes, m.elements, m.materials, p);
+  }
+  if (m.bonds.count > 0) {
+    ProfilingRegion region("fracta::bond_forces");
+    const BondStepResult r = compute_bond_forces(m.nodes, m.bonds, m.bond_laws, dt);
+    fracture_energy_ += r.fracture_energy;
+    broken_bonds_ += r.broken;
+  }
+  // A negative FE bound flags an inverted element; keep it negative.
+  return bound < 0.0 ? bound : std::min(bound, bond_dt_bound_);
+}
+
 double Simulation::next_dt() const {
   const Case& c = model_.scene;
   double dt = c.sim.dt > 0.0 ? c.sim.dt : c.sim.dt_safety * dt_bound_;
@@ -97,16 +117,13 @@ void Simulation::step() {
   if (failed()) return;
   const Case& c = model_.scene;
   Model& m = model_;
-  Kokkos::Profiling::pushRegion("fracta::step");
+  ProfilingRegion region("fracta::step");
   external_work_ += kick_drift(m.nodes, dt_);
   time_ += dt_;
   apply_loads(m.nodes, m.tables, m.pressure_edges, m.nodal_forces, c.sim.thickness, time_);
-  FeParams p = m.fe;
-  p.dt = dt_;
-  dt_bound_ = compute_fe_forces(m.nodes, m.elements, m.materials, p);
+  dt_bound_ = evaluate_forces(dt_);
   external_work_ += kick(m.nodes, dt_);
   ++steps_;
-  Kokkos::Profiling::popRegion();
 
   if (!(dt_bound_ > 0.0)) {
     failure_ = "an element inverted or became non-finite at step " + std::to_string(steps_);
@@ -129,22 +146,29 @@ HistoryRecord Simulation::history() {
       model_.scene.sim.dt > 0 ? model_.scene.sim.dt : model_.scene.sim.dt_safety * dt_bound_;
   const NodeTotals nt = node_totals(model_.nodes, dt_nominal);
   const ElementTotals et = element_totals(model_.elements);
-  r.energy.kinetic = nt.kinetic;
-  r.energy.internal = et.internal;
-  r.energy.plastic = et.plastic;
+  const LatticeTotals lt = lattice_totals(model_.nodes, model_.bonds, dt_nominal);
+  r.energy.kinetic = nt.kinetic + lt.rotational_kinetic;
+  r.energy.internal = et.internal + lt.bond_elastic;
+  r.energy.plastic = et.plastic + lt.bond_plastic;
+  r.energy.fracture = fracture_energy_;
   r.energy.hourglass = et.hourglass;
   r.energy.viscous = et.viscous;
   r.energy.external = external_work_;
-  r.energy.time_discretization = nt.time_discretization;
-  const double dissipated = et.plastic + et.hourglass + et.viscous;
-  const double balance = nt.kinetic + nt.time_discretization + et.internal + dissipated -
-                         external_work_ - initial_energy_;
-  const double scale = std::max(external_work_ + initial_energy_, nt.kinetic);
+  r.energy.time_discretization = nt.time_discretization + lt.rotational_time_discretization;
+  const double dissipated = r.energy.plastic + r.energy.hourglass + r.energy.viscous +
+                            r.energy.contact + r.energy.fracture + r.energy.conversion;
+  const double balance = r.energy.kinetic + r.energy.time_discretization + r.energy.internal +
+                         dissipated - external_work_ - initial_energy_;
+  const double scale = std::max(external_work_ + initial_energy_, r.energy.kinetic);
   r.energy.error = scale > 0.0 ? std::fabs(balance) / scale : 0.0;
   r.mass = nt.mass;
   r.momentum_x = nt.momentum_x;
   r.momentum_y = nt.momentum_y;
   r.count.elements = model_.elements.active_count;
+  r.count.particles = lt.particles;
+  r.count.composite = lt.composite;
+  r.count.bonds = lt.active_bonds;
+  r.count.broken_bonds = broken_bonds_;
   if (!std::isfinite(nt.kinetic) || !std::isfinite(et.internal))
     failure_ = "non-finite energy at step " + std::to_string(steps_);
   else if (scale > 0.0 && steps_ > 10 && r.energy.error > model_.scene.sim.energy_error_limit) {
@@ -243,7 +267,8 @@ FrameData Simulation::frame(const std::vector<std::string>& fields) {
 // Calls f(model_view, snapshot_view) for every view a step mutates; the one list that
 // snapshot allocation, saving and restoring share.
 template <class F>
-void for_each_state_view(Nodes& n, Elements& e, Nodes& sn, Elements& se, F&& f) {
+void for_each_state_view(Nodes& n, Elements& e, Bonds& b, Nodes& sn, Elements& se, Bonds& sb,
+                         F&& f) {
   f(n.x, sn.x);
   f(n.v, sn.v);
   f(n.f, sn.f);
@@ -258,6 +283,22 @@ void for_each_state_view(Nodes& n, Elements& e, Nodes& sn, Elements& se, F&& f) 
   f(e.plastic_work, se.plastic_work);
   f(e.hourglass_work, se.hourglass_work);
   f(e.viscous_work, se.viscous_work);
+  f(e.active, se.active);
+  f(e.alive, se.alive);
+  f(n.particle, sn.particle);
+  f(n.rotation, sn.rotation);
+  f(n.spin, sn.spin);
+  f(n.moment, sn.moment);
+  f(b.state, sb.state);
+  f(b.kn, sb.kn);
+  f(b.ks, sb.ks);
+  f(b.area, sb.area);
+  f(b.fn, sb.fn);
+  f(b.fs, sb.fs);
+  f(b.plastic_n, sb.plastic_n);
+  f(b.plastic_s, sb.plastic_s);
+  f(b.hardening, sb.hardening);
+  f(b.plastic_work, sb.plastic_work);
 }
 
 void Simulation::save_snapshot() {
@@ -265,9 +306,10 @@ void Simulation::save_snapshot() {
   if (first) {
     snapshot_.nodes = model_.nodes;
     snapshot_.elements = model_.elements;
+    snapshot_.bonds = model_.bonds;
   }
-  for_each_state_view(model_.nodes, model_.elements, snapshot_.nodes, snapshot_.elements,
-                      [first](const auto& live, auto& saved) {
+  for_each_state_view(model_.nodes, model_.elements, model_.bonds, snapshot_.nodes,
+                      snapshot_.elements, snapshot_.bonds, [first](const auto& live, auto& saved) {
                         if (first)
                           saved = clone(live);
                         else
@@ -277,16 +319,23 @@ void Simulation::save_snapshot() {
   snapshot_.dt = dt_;
   snapshot_.dt_bound = dt_bound_;
   snapshot_.external_work = external_work_;
+  snapshot_.fracture_energy = fracture_energy_;
+  snapshot_.broken_bonds = broken_bonds_;
+  snapshot_.active_elements = model_.elements.active_count;
   snapshot_.steps = steps_;
 }
 
 void Simulation::restore_snapshot() {
-  for_each_state_view(model_.nodes, model_.elements, snapshot_.nodes, snapshot_.elements,
+  for_each_state_view(model_.nodes, model_.elements, model_.bonds, snapshot_.nodes,
+                      snapshot_.elements, snapshot_.bonds,
                       [](const auto& live, const auto& saved) { Kokkos::deep_copy(live, saved); });
   time_ = snapshot_.time;
   dt_ = snapshot_.dt;
   dt_bound_ = snapshot_.dt_bound;
   external_work_ = snapshot_.external_work;
+  fracture_energy_ = snapshot_.fracture_energy;
+  broken_bonds_ = snapshot_.broken_bonds;
+  model_.elements.active_count = snapshot_.active_elements;
   steps_ = snapshot_.steps;
 }
 

@@ -38,11 +38,15 @@ class Simulation {
 
  private:
   double next_dt() const;
+  // Zeroed forces in, all internal forces out (FE, bonds); returns the stable bound (s).
+  double evaluate_forces(double dt);
 
   Model model_;
   double time_ = 0.0, dt_ = 0.0, dt_bound_ = 0.0, dt_initial_ = 0.0;
   long steps_ = 0;
   double external_work_ = 0.0, initial_energy_ = 0.0;
+  double bond_dt_bound_ = 1e300, fracture_energy_ = 0.0;
+  long broken_bonds_ = 0;
   std::string failure_;
   View<int*> probe_node_, probe_element_;
   View<double* [7]> probe_values_;
@@ -50,8 +54,10 @@ class Simulation {
   struct Snapshot {
     Nodes nodes;
     Elements elements;
-    double time = 0, dt = 0, dt_bound = 0, external_work = 0;
-    long steps = -1;
+    Bonds bonds;
+    double time = 0, dt = 0, dt_bound = 0, external_work = 0, fracture_energy = 0;
+    long broken_bonds = 0, steps = -1;
+    int active_elements = 0;
   } snapshot_;
 };
 

@@ -4,6 +4,7 @@
 // compile unchanged.
 #pragma once
 #include <Kokkos_Core.hpp>
+#include <string>
 
 namespace fracta {
 
@@ -60,5 +61,14 @@ KOKKOS_INLINE_FUNCTION double sin_(double a) {
 KOKKOS_INLINE_FUNCTION bool isfinite_(double a) {
   return a - a == 0.0;
 }
+
+// A named profiling region for Kokkos Tools (Kokkos 3.4 has no Profiling::ScopedRegion). Host.
+class ProfilingRegion {
+ public:
+  explicit ProfilingRegion(const std::string& name) { Kokkos::Profiling::pushRegion(name); }
+  ~ProfilingRegion() { Kokkos::Profiling::popRegion(); }
+  ProfilingRegion(const ProfilingRegion&) = delete;
+  ProfilingRegion& operator=(const ProfilingRegion&) = delete;
+};
 
 }  // namespace fracta

@@ -37,6 +37,50 @@ inline NodeTotals node_totals(const Nodes& nodes, double dt) {
   return {s.v[0], s.v[1], s.v[2], s.v[3], s.v[4]};
 }
 
+// Disc rotations and the bonded lattice: rotational kinetic energy and its central-difference
+// term -(dt^2/8) M^2 / I, bond elastic energy and plastic work (J), and counts.
+struct LatticeTotals {
+  double rotational_kinetic = 0, rotational_time_discretization = 0, bond_elastic = 0,
+         bond_plastic = 0;
+  long particles = 0, composite = 0, active_bonds = 0;
+};
+
+inline LatticeTotals lattice_totals(const Nodes& nodes, const Bonds& bonds, double dt) {
+  LatticeTotals t;
+  if (!nodes.has_particles()) return t;
+  Sums<3> n;
+  Kokkos::parallel_reduce(
+      "fracta::rotation_totals", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
+      KOKKOS_LAMBDA(const int i, Sums<3>& acc) {
+        if (!nodes.particle(i)) return;
+        const double I = nodes.inertia(i), w = nodes.spin(i), M = nodes.moment(i);
+        acc.v[0] += 0.5 * I * w * w;
+        acc.v[1] -= 0.125 * dt * dt * M * M / I;
+        acc.v[2] += 1.0;
+      },
+      Kokkos::Sum<Sums<3>>(n));
+  t.rotational_kinetic = n.v[0];
+  t.rotational_time_discretization = n.v[1];
+  t.particles = static_cast<long>(n.v[2] + 0.5);
+  if (bonds.count > 0) {
+    Sums<3> b;
+    Kokkos::parallel_reduce(
+        "fracta::bond_totals", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
+        KOKKOS_LAMBDA(const int k, Sums<3>& acc) {
+          acc.v[1] += bonds.plastic_work(k);
+          if (bonds.state(k) != kBondActive) return;
+          if (bonds.kn(k) > 0.0) acc.v[0] += 0.5 * bonds.fn(k) * bonds.fn(k) / bonds.kn(k);
+          if (bonds.ks(k) > 0.0) acc.v[0] += 0.5 * bonds.fs(k) * bonds.fs(k) / bonds.ks(k);
+          acc.v[2] += 1.0;
+        },
+        Kokkos::Sum<Sums<3>>(b));
+    t.bond_elastic = b.v[0];
+    t.bond_plastic = b.v[1];
+    t.active_bonds = static_cast<long>(b.v[2] + 0.5);
+  }
+  return t;
+}
+
 // Totals over the active elements: recoverable strain energy and cumulative dissipation (J).
 struct ElementTotals {
   double internal = 0, plastic = 0, hourglass = 0, viscous = 0;

@@ -4,6 +4,7 @@
 //   v(n+1) = v(n+1/2) + dt/2 a(n+1).
 // Full-step velocities make the kinetic energy exact at output times. The external work uses
 // the trapezoidal rule dW = dx . (f_ext(n) + f_ext(n+1)) / 2, split over the two half kicks.
+// Disc rotations (particles only) follow the same scheme with moment / inertia.
 #pragma once
 #include "kernels/compat.hpp"
 #include "kernels/state.hpp"
@@ -36,6 +37,23 @@ inline double kick_drift(const Nodes& nodes, double dt) {
         }
       },
       work);
+  if (nodes.has_particles()) {
+    const auto particle = nodes.particle;
+    const auto spin = nodes.spin;
+    const auto rotation = nodes.rotation;
+    const auto moment = nodes.moment;
+    const auto inertia = nodes.inertia;
+    Kokkos::parallel_for(
+        "fracta::kick_drift_rotation", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
+        KOKKOS_LAMBDA(const int n) {
+          if (particle(n)) {
+            const double w = spin(n) + 0.5 * dt * moment(n) / inertia(n);
+            spin(n) = w;
+            rotation(n) += dt * w;
+          }
+          moment(n) = 0.0;
+        });
+  }
   return work;
 }
 
@@ -60,6 +78,17 @@ inline double kick(const Nodes& nodes, double dt) {
         }
       },
       work);
+  if (nodes.has_particles()) {
+    const auto particle = nodes.particle;
+    const auto spin = nodes.spin;
+    const auto moment = nodes.moment;
+    const auto inertia = nodes.inertia;
+    Kokkos::parallel_for(
+        "fracta::kick_rotation", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
+        KOKKOS_LAMBDA(const int n) {
+          if (particle(n)) spin(n) += 0.5 * dt * moment(n) / inertia(n);
+        });
+  }
   return work;
 }
 

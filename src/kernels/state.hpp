@@ -6,6 +6,10 @@
 //  - Elements: body by body, the mesh index never changes; `active` lists the indices of the
 //    active (not converted) elements in increasing order.
 //  - Quadrature points: element e owns points [e * qp_per_element, (e + 1) * qp_per_element).
+//  - Bonds: the bond slots of the mesh, fixed at set-up (every element edge once, then every
+//    element diagonal); a slot is never moved or removed, its `state` masks it.
+//  - Particle views of Nodes are sized to the node count when the scene can have particles
+//    (a de or adaptive body), and empty otherwise.
 #pragma once
 #include "kernels/compat.hpp"
 #include "kernels/materials.hpp"
@@ -24,6 +28,65 @@ struct Nodes {
   View<int*> fixed;         // FixedDof bits
   View<int*> body;
   int count = 0;
+  // Particle (disc) state of a node (DESIGN.md 1.3); empty views when no body can convert.
+  View<int*> particle;              // 1 if the node is a disc (a DE particle)
+  View<double*> radius;             // disc radius (m), half the cell size
+  View<double*> inertia;            // polar moment m r^2 / 2 (kg m^2)
+  View<double*> rotation;           // disc rotation (rad, counter-clockwise)
+  View<double*> spin;               // angular velocity (rad/s)
+  View<double*> moment;             // moment from bonds and contacts (N m), rebuilt every step
+  View<double*> contact_stiffness;  // lambda k1 of the node's material (N/m), paper Eq. 7
+  bool has_particles() const { return particle.extent(0) > 0; }
+};
+
+enum BondState : int { kBondInactive = 0, kBondActive = 1, kBondBroken = 2 };
+enum BondKind : int { kBondEdge = 0, kBondDiagonal = 1 };
+
+// Bond slots (DESIGN.md 1.2-1.3): springs between discs. Normal force fn (tension positive)
+// along n = (xj - xi)/|xj - xi|; shear force fs along t = n rotated by +90 degrees. The force on
+// disc i is fn n + fs t (on j the opposite); disc i receives the moment l_i fs, with l_i the
+// distance from its centre to the contact point (l_i = r_i at the rest length).
+struct Bonds {
+  View<int* [2]> nodes;
+  View<int*> kind;             // BondKind
+  View<int*> material;         // material of the elements that activated it
+  View<int*> state;            // BondState
+  View<double*> kn;            // normal stiffness (N/m), sum of element contributions
+  View<double*> ks;            // shear stiffness (N/m)
+  View<double*> length0;       // rest length (m)
+  View<double*> area;          // effective area S (m^2): bond stress = force / S
+  View<double*> fn;            // normal force (N), tension positive
+  View<double*> fs;            // shear force (N)
+  View<double*> plastic_n;     // plastic elongation (m) of the bilinear normal spring
+  View<double*> plastic_s;     // plastic slip (m) of the bilinear shear spring
+  View<double*> hardening;     // accumulated plastic displacement (m), isotropic hardening
+  View<double*> plastic_work;  // cumulative (J)
+  int count = 0;
+};
+
+// Who is joined to whom, for contact exclusion: node -> bond slots and node -> elements (CSR).
+// Two discs joined by an active bond or by an active element never contact.
+struct Topology {
+  View<int*> node_bond_offset, node_bond;        // bonds of node n: [offset(n), offset(n+1))
+  View<int*> node_element_offset, node_element;  // elements of node n
+  View<int*> element_alive;                      // 1 while the element is an active FE element
+  View<int* [2]> bond_nodes;
+  View<int*> bond_state;
+
+  KOKKOS_INLINE_FUNCTION bool joined(int i, int j) const {
+    for (int k = node_bond_offset(i); k < node_bond_offset(i + 1); ++k) {
+      const int b = node_bond(k);
+      if (bond_state(b) == kBondActive && (bond_nodes(b, 0) == j || bond_nodes(b, 1) == j))
+        return true;
+    }
+    for (int k = node_element_offset(i); k < node_element_offset(i + 1); ++k) {
+      const int e = node_element(k);
+      if (!element_alive(e)) continue;
+      for (int k2 = node_element_offset(j); k2 < node_element_offset(j + 1); ++k2)
+        if (node_element(k2) == e) return true;
+    }
+    return false;
+  }
 };
 
 struct Elements {
@@ -31,6 +94,7 @@ struct Elements {
   View<int*> material;   // index into the MaterialLaw table
   View<int*> body;
   View<int*> active;  // active element indices, increasing
+  View<int*> alive;   // 1 while the element is an active FE element (per mesh element)
   int count = 0;      // all elements of the mesh
   int active_count = 0;
   int qp_per_element = 1;  // 1 (reduced + hourglass control) or 4 (2x2 Gauss)

@@ -30,10 +30,11 @@ void record(const WaveResult& r) {
   ::testing::Test::RecordProperty("plateau_error", std::to_string(r.plateau / r.v_exact - 1));
 }
 
-WaveResult run_wave(Formulation f) {
-  const double h = 0.5e-3, E = 232e9, nu = 0.3, rho = 7800.0, p = 500e6;
+WaveResult run_wave(Formulation f, BodyMethod method = BodyMethod::fe, double nu = 0.3) {
+  const double h = 0.5e-3, E = 232e9, rho = 7800.0, p = 500e6;
   const int nx = 160, ny = 4;  // 80 mm long strip
   Case c = test::rectangle_case(nx, ny, h, E, nu, rho, f);
+  c.bodies[0].method = method;
   const double L = nx * h, H = ny * h;
   test::add_pressure(c, test::segment(0, 0, 0, H), {0.0, 1.0}, {p, p});  // step load
   test::add_fixed(c, test::segment(0, 0, L, 0), Boundary::Type::fixed_y);
@@ -80,6 +81,23 @@ TEST(PlaneWave, PlaneStrainSpeedAndParticleVelocity) {
   const WaveResult r = run_wave(Formulation::plane_strain);
   EXPECT_NEAR(r.speed, r.c_exact, 0.01 * r.c_exact);
   EXPECT_NEAR(r.plateau, r.v_exact, 0.01 * r.v_exact);
+  record(r);
+}
+
+// The same plane wave through the bonded disc lattice (DESIGN.md 1.2): its stiffness equals the
+// continuum's, so speed and plateau particle velocity match the continuum values; 1.5% is the
+// issue's bound for the lattice, whose front rings more (no bulk viscosity acts on discs).
+TEST(PlaneWave, LatticePlaneStressSpeedAndParticleVelocity) {
+  const WaveResult r = run_wave(Formulation::plane_stress, BodyMethod::de);
+  EXPECT_NEAR(r.speed, r.c_exact, 0.015 * r.c_exact);
+  EXPECT_NEAR(r.plateau, r.v_exact, 0.015 * r.v_exact);
+  record(r);
+}
+
+TEST(PlaneWave, LatticePlaneStrainSpeedAndParticleVelocity) {
+  const WaveResult r = run_wave(Formulation::plane_strain, BodyMethod::de, 0.2);
+  EXPECT_NEAR(r.speed, r.c_exact, 0.015 * r.c_exact);
+  EXPECT_NEAR(r.plateau, r.v_exact, 0.015 * r.v_exact);
   record(r);
 }
 

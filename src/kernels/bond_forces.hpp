@@ -1,0 +1,190 @@
+// Bond forces of the bonded disc lattice (DESIGN.md 1.2; paper Eqs. 5, 6 and 8-10 corrected).
+// One kernel over the bond slots: active bonds compute their normal and shear spring forces,
+// check Mohr-Coulomb failure with tension cut-off, and scatter forces and moments atomically.
+#pragma once
+#include "kernels/compat.hpp"
+#include "kernels/state.hpp"
+
+namespace fracta {
+
+// Per-material bond parameters (plain data, copied into the kernel by value).
+struct BondLaw {
+  double youngs_modulus_eff = 0;  // E in plane stress, E / (1 - nu^2) in plane strain (Pa)
+  double yield_stress = 0;        // bilinear springs (Pa); 0 = elastic bonds
+  double hardening = 0;           // H of the bilinear law (Pa per unit bond plastic strain)
+  double tensile_strength = 0;    // Pa; 0 = no tensile failure
+  double cohesion = 0;            // Pa; 0 = no shear failure
+  double tan_friction = 0;        // tan(phi)
+};
+
+struct BondStepResult {
+  double fracture_energy = 0;  // elastic energy of the bonds that broke this step (J)
+  double plastic_work = 0;     // plastic work of the bonds this step (J)
+  long broken = 0;             // bonds broken this step
+};
+
+// One-dimensional elastoplastic spring with linear isotropic hardening (paper Eq. 5 with
+// elastic unloading): force = k (u - u_p), |force| <= f_y + k_h * alpha. Returns the plastic work.
+KOKKOS_INLINE_FUNCTION double bilinear_spring(double k, double u, double f_yield, double k_hard,
+                                              double& u_plastic, double& alpha, double& force) {
+  force = k * (u - u_plastic);
+  if (f_yield <= 0.0) return 0.0;
+  const double limit = f_yield + k_hard * alpha;
+  const double excess = fabs_(force) - limit;
+  if (excess <= 0.0) return 0.0;
+  const double dgamma = excess / (k + k_hard);
+  const double sign = force > 0.0 ? 1.0 : -1.0;
+  u_plastic += sign * dgamma;
+  alpha += dgamma;
+  force -= sign * k * dgamma;
+  return fabs_(force) * dgamma;  // the dissipation of the return (backward Euler)
+}
+
+struct BondForces {
+  Nodes nodes;
+  Bonds bonds;
+  View<const BondLaw*> laws;
+  double dt;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int b, Sums<3>& acc) const {
+    if (bonds.state(b) != kBondActive) return;
+    const int i = bonds.nodes(b, 0), j = bonds.nodes(b, 1);
+    const double dx = nodes.x(j, 0) - nodes.x(i, 0), dy = nodes.x(j, 1) - nodes.x(i, 1);
+    const double length = sqrt_(dx * dx + dy * dy);
+    const double nx = dx / length, ny = dy / length;  // n; t = (-ny, nx)
+    const BondLaw law = laws(bonds.material(b));
+    const double kn = bonds.kn(b), ks = bonds.ks(b), area = bonds.area(b), L0 = bonds.length0(b);
+    // Bilinear parameters in force units: yield force = yield stress * S, hardening modulus
+    // in force per unit plastic displacement H S / L0.
+    const double fy_n = law.yield_stress * area;
+    const double fy_s = law.yield_stress * area / 1.7320508075688772;  // von Mises shear yield
+    const double k_hard = law.hardening * area / L0;
+    double up = bonds.plastic_n(b), us_p = bonds.plastic_s(b), alpha = bonds.hardening(b);
+    double fn = 0.0, fs = 0.0, plastic = 0.0;
+    plastic += bilinear_spring(kn, length - L0, fy_n, k_hard, up, alpha, fn);
+    if (ks > 0.0) {
+      // Shear displacement increment (paper Eq. 8 corrected): relative tangential velocity
+      // of the contact point, with the disc rotations (DESIGN.md 1.2).
+      // Lever arms to the contact point, which splits the current length in the ratio of the
+      // radii: then the moments L_i fs + L_j fs = L fs balance the couple of the shear forces
+      // exactly (angular momentum is conserved whatever the stretch).
+      const double ri = nodes.radius(i), rj = nodes.radius(j);
+      const double li = length * ri / (ri + rj), lj = length * rj / (ri + rj);
+      const double dvt = -(nodes.v(j, 0) - nodes.v(i, 0)) * ny +
+                         (nodes.v(j, 1) - nodes.v(i, 1)) * nx -
+                         (li * nodes.spin(i) + lj * nodes.spin(j));
+      // Shear displacement kept as the elastic part fs/ks plus the plastic slip.
+      const double us = bonds.fs(b) / ks + us_p + dvt * dt;
+      plastic += bilinear_spring(ks, us, fy_s, k_hard, us_p, alpha, fs);
+    }
+    // Failure (paper Sec. 2.3, Eq. 6 corrected): Mohr-Coulomb with tension cut-off on the bond
+    // stresses sigma_n = fn / S (tension positive) and tau = |fs| / S.
+    const double sigma_n = area > 0.0 ? fn / area : 0.0;
+    const double tau = area > 0.0 ? fabs_(fs) / area : 0.0;
+    const bool tension = law.tensile_strength > 0.0 && sigma_n >= law.tensile_strength;
+    const bool shear = law.cohesion > 0.0 && tau >= law.cohesion - sigma_n * law.tan_friction;
+    if (area > 0.0 && (tension || shear)) {
+      // Released as fracture energy: what the bond held, 1/2 f_old^2/k, plus what the discs did
+      // on it this step by the trapezoidal rule with the zero force it now applies,
+      // 1/2 f_old (f - f_old)/k: together 1/2 f_old f / k per spring. (Counting the trial
+      // energy 1/2 f^2/k would over-count by 1/2 f du per break and unbalance the energy.)
+      const double fn_old = bonds.fn(b), fs_old = bonds.fs(b);
+      const double energy =
+          (kn > 0.0 ? 0.5 * fn_old * fn / kn : 0.0) + (ks > 0.0 ? 0.5 * fs_old * fs / ks : 0.0);
+      bonds.state(b) = kBondBroken;
+      bonds.fn(b) = 0.0;
+      bonds.fs(b) = 0.0;
+      acc.v[0] += energy;
+      acc.v[1] += plastic;
+      acc.v[2] += 1.0;
+      return;
+    }
+    bonds.fn(b) = fn;
+    bonds.fs(b) = fs;
+    bonds.plastic_n(b) = up;
+    bonds.plastic_s(b) = us_p;
+    bonds.hardening(b) = alpha;
+    bonds.plastic_work(b) += plastic;
+    acc.v[1] += plastic;
+    // Force on i: fn n + fs t; on j the opposite; moment r fs on both discs (DESIGN.md 1.2).
+    const double fx = fn * nx - fs * ny, fy = fn * ny + fs * nx;
+    Kokkos::atomic_add(&nodes.f(i, 0), fx);
+    Kokkos::atomic_add(&nodes.f(i, 1), fy);
+    Kokkos::atomic_add(&nodes.f(j, 0), -fx);
+    Kokkos::atomic_add(&nodes.f(j, 1), -fy);
+    if (ks > 0.0) {
+      const double ri = nodes.radius(i), rj = nodes.radius(j);
+      Kokkos::atomic_add(&nodes.moment(i), length * ri / (ri + rj) * fs);
+      Kokkos::atomic_add(&nodes.moment(j), length * rj / (ri + rj) * fs);
+    }
+  }
+};
+
+inline BondStepResult compute_bond_forces(const Nodes& nodes, const Bonds& bonds,
+                                          const View<const BondLaw*>& laws, double dt) {
+  BondStepResult r;
+  if (bonds.count == 0) return r;
+  Sums<3> s;
+  Kokkos::parallel_reduce("fracta::bond_forces", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
+                          BondForces{nodes, bonds, laws, dt}, Kokkos::Sum<Sums<3>>(s));
+  r.fracture_energy = s.v[0];
+  r.plastic_work = s.v[1];
+  r.broken = static_cast<long>(s.v[2] + 0.5);
+  return r;
+}
+
+// Stable step of the bond network (DESIGN.md 1.4): Gershgorin's bound on the largest
+// eigenvalue of M^-1/2 K M^-1/2 over translations and rotations, row by row. Each bond adds to
+// the rows of its two discs; `contact_allowance` adds that many contacts of the disc's contact
+// stiffness to every particle. Returns 2 / sqrt(lambda_max) (s), or a huge value if no bond.
+inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, int contact_allowance) {
+  if (!nodes.has_particles()) return 1e300;
+  View<double* [2]> row("fracta::gershgorin_rows", nodes.count);  // translation, rotation
+  const auto x = nodes.x;
+  const auto mass = nodes.mass;
+  const auto inertia = nodes.inertia;
+  const auto radius = nodes.radius;
+  if (bonds.count > 0) {
+    Kokkos::parallel_for(
+        "fracta::bond_gershgorin", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
+        KOKKOS_LAMBDA(const int b) {
+          if (bonds.state(b) != kBondActive) return;
+          const int ends[2] = {bonds.nodes(b, 0), bonds.nodes(b, 1)};
+          const double k = bonds.kn(b) + bonds.ks(b), ks = bonds.ks(b);
+          for (int s = 0; s < 2; ++s) {
+            const int i = ends[s], j = ends[1 - s];
+            const double mi = mass(i), mj = mass(j), Ii = inertia(i), Ij = inertia(j);
+            const double ri = radius(i), rj = radius(j);
+            // |K| entries of a 2D spring pair, row x of disc i: |kn nx^2 + ks tx^2| +
+            // |(kn - ks) nx ny| <= (1 + sqrt 2)/2 (kn + ks) towards i and towards j; shear couples
+            // the translation to both rotations by r ks |tx| <= r ks; rotations couple by r^2 ks
+            // and to translations by r ks (|tx| + |ty|) <= sqrt 2 r ks.
+            const double trans = 1.2071067811865475 * k * (1.0 / mi + 1.0 / sqrt_(mi * mj)) +
+                                 ks * (ri / sqrt_(mi * Ii) + rj / sqrt_(mi * Ij));
+            const double rot =
+                ks * (ri * ri / Ii + ri * rj / sqrt_(Ii * Ij)) +
+                1.4142135623730951 * ks * ri * (1.0 / sqrt_(Ii * mi) + 1.0 / sqrt_(Ii * mj));
+            Kokkos::atomic_add(&row(i, 0), trans);
+            Kokkos::atomic_add(&row(i, 1), rot);
+          }
+        });
+  }
+  double lambda = 0.0;
+  const auto particle = nodes.particle;
+  const auto kc = nodes.contact_stiffness;
+  const double allowance = contact_allowance;
+  Kokkos::parallel_reduce(
+      "fracta::bond_stable_dt", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
+      KOKKOS_LAMBDA(const int n, double& lmax) {
+        if (!particle(n)) return;
+        // A contact pair adds at most 1.2071 kc (1/m_i + 1/sqrt(m_i m_j)) <= 3.7 kc / m_i
+        // (a neighbour of at least a quarter of the mass: a corner node).
+        const double contact = allowance * 3.7 * kc(n) / mass(n);
+        const double l = max_(row(n, 0), row(n, 1)) + contact;
+        lmax = lmax > l ? lmax : l;
+      },
+      Kokkos::Max<double>(lambda));
+  return lambda > 0.0 ? 2.0 / sqrt_(lambda) : 1e300;
+}
+
+}  // namespace fracta
