@@ -52,6 +52,13 @@ inline void add_pressure(Case& c, const Segment& s, std::vector<double> t, std::
   c.loads.push_back(l);
 }
 
+inline void add_traction(Case& c, const Segment& s, Vec2 direction, std::vector<double> t,
+                         std::vector<double> v) {
+  add_pressure(c, s, std::move(t), std::move(v));
+  c.loads.back().type = Load::Type::traction;
+  c.loads.back().direction = direction;
+}
+
 inline void add_fixed(Case& c, const Segment& s, Boundary::Type type) {
   Boundary b;
   b.type = type;

@@ -146,7 +146,8 @@ const Choices<Shape::Type> kShapeTypes = {{"rectangle", Shape::Type::rectangle},
                                           {"semicircle", Shape::Type::semicircle},
                                           {"polygon", Shape::Type::polygon}};
 const Choices<Load::Type> kLoadTypes = {{"pressure", Load::Type::pressure},
-                                        {"force", Load::Type::force}};
+                                        {"force", Load::Type::force},
+                                        {"traction", Load::Type::traction}};
 const Choices<Boundary::Type> kBoundaryTypes = {{"fixed_x", Boundary::Type::fixed_x},
                                                 {"fixed_y", Boundary::Type::fixed_y},
                                                 {"fixed", Boundary::Type::fixed}};
@@ -737,7 +738,14 @@ Load read_load(const Reader& r, const Names& bodies) {
     l.where.kind = NodeSelector::Kind::segment;
     l.where.segment = read_segment(r.table("segment"));
   } else {
-    l.where = read_selector(r);
+    if (l.type == Load::Type::traction) {
+      r.only_applicable({"body", "type", "segment", "direction", "time", "value"},
+                        "load type 'traction'");
+      l.where.kind = NodeSelector::Kind::segment;
+      l.where.segment = read_segment(r.table("segment"));
+    } else {
+      l.where = read_selector(r);
+    }
     Vec2 d = r.vec2("direction");
     double norm = std::hypot(d[0], d[1]);
     if (!(norm > 0)) r.fail("direction", "must be a non-zero vector");

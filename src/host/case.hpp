@@ -96,11 +96,13 @@ struct Body {
 };
 
 struct Load {
-  enum class Type { pressure, force } type = Type::pressure;
+  // pressure: normal to the segment's boundary edges, positive inwards (Pa); traction: a fixed
+  // direction on the segment's boundary edges (Pa); force: a total force on a node set (N).
+  enum class Type { pressure, force, traction } type = Type::pressure;
   std::string body;
   int body_index = -1;
   NodeSelector where;         // pressure: a segment; force: a segment or a shape
-  Vec2 direction{1, 0};       // force only: unit direction of the total force
+  Vec2 direction{1, 0};       // force and traction: unit direction
   std::vector<double> time;   // s, non-decreasing, piecewise-linear table
   std::vector<double> value;  // Pa (pressure, positive pushes into the body) or N (total force)
   SourcePos pos;

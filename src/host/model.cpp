@@ -60,13 +60,14 @@ void build_loads(Model& model) {
   std::vector<int> offset{0};
   std::vector<std::array<int, 2>> edges;
   std::vector<int> edge_load, force_node, force_load;
+  std::vector<Vec2> edge_direction;
   std::vector<Vec2> force_unit;
   for (size_t k = 0; k < c.loads.size(); ++k) {
     const Load& l = c.loads[k];
     t.insert(t.end(), l.time.begin(), l.time.end());
     v.insert(v.end(), l.value.begin(), l.value.end());
     offset.push_back(static_cast<int>(t.size()));
-    if (l.type == Load::Type::pressure) {
+    if (l.type == Load::Type::pressure || l.type == Load::Type::traction) {
       const auto sel = select_edges(model.mesh, l.where.segment, l.body_index);
       if (sel.empty())
         throw InputError(l.pos.file, l.pos.line, "load[" + std::to_string(k) + "].segment",
@@ -74,6 +75,7 @@ void build_loads(Model& model) {
       for (const auto& e : sel) {
         edges.push_back(e);
         edge_load.push_back(static_cast<int>(k));
+        edge_direction.push_back(l.type == Load::Type::traction ? l.direction : Vec2{0.0, 0.0});
       }
     } else {
       const auto sel = select_nodes(model.mesh, l.where, l.body_index);
@@ -97,6 +99,7 @@ void build_loads(Model& model) {
   pe.count = static_cast<int>(edges.size());
   pe.nodes = to_device_rows("pressure_edge_nodes", edges);
   pe.load = to_device_1d<int>("pressure_edge_load", edge_load);
+  pe.direction = to_device_rows("pressure_edge_direction", edge_direction);
 
   auto& nf = model.nodal_forces;
   nf.count = static_cast<int>(force_node.size());
@@ -238,6 +241,17 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   bonds.hardening = View<double*>("fracta::bond_hardening", nb);
   bonds.plastic_work = View<double*>("fracta::bond_plastic_work", nb);
   model.element_bonds = to_device_rows("element_bonds", element_slots);
+  std::vector<std::array<int, 2>> bond_cells(nb, std::array<int, 2>{-1, -1});
+  for (int e = 0; e < ne; ++e)
+    for (int a = 0; a < 6; ++a) {
+      const int b = element_slots[e][a];
+      if (b >= 0) bond_cells[b][bond_cells[b][0] < 0 ? 0 : 1] = e;
+    }
+  bonds.cells = to_device_rows("bond_cells", bond_cells);
+  model.elements.cell_stress = View<double* [3]>("fracta::cell_stress", ne);
+  model.elements.cell_intact = View<int*>("fracta::cell_intact", ne);
+  model.converted = to_device_1d<int>("converted_cells", converted);
+  model.converted_count = static_cast<int>(converted.size());
 
   // Per-material lattice stiffness and bond law.
   std::vector<LatticeStiffness> stiffness;
@@ -268,6 +282,7 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   nodes.rotation = View<double*>("fracta::node_rotation", nn);
   nodes.spin = View<double*>("fracta::node_spin", nn);
   nodes.moment = View<double*>("fracta::node_moment", nn);
+
   {
     std::vector<double> radius(nn), inertia(nn), kc(nn);
     auto mass = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.mass);

@@ -38,6 +38,8 @@ struct Model {
   Bonds bonds;
   Topology topology;
   View<int* [6]> element_bonds;  // bond slots of each element: 4 edges, 2 diagonals (-1: none)
+  View<int*> converted;          // the converted cells (elements), in conversion order
+  int converted_count = 0;
   View<LatticeStiffness*> lattice_stiffness;  // per material
   View<BondLaw*> bond_laws;                   // per material
   std::vector<ProbeSite> probes;

@@ -45,7 +45,7 @@ class Simulation {
   double time_ = 0.0, dt_ = 0.0, dt_bound_ = 0.0, dt_initial_ = 0.0;
   long steps_ = 0;
   double external_work_ = 0.0, initial_energy_ = 0.0;
-  double bond_dt_bound_ = 1e300, fracture_energy_ = 0.0;
+  double bond_dt_bound_ = 1e300, fracture_energy_ = 0.0, energy_floor_ = 0.0;
   long broken_bonds_ = 0;
   std::string failure_;
   View<int*> probe_node_, probe_element_;

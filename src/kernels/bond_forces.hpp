@@ -3,6 +3,7 @@
 // check Mohr-Coulomb failure with tension cut-off, and scatter forces and moments atomically.
 #pragma once
 #include "kernels/compat.hpp"
+#include "kernels/conversion.hpp"
 #include "kernels/state.hpp"
 
 namespace fracta {
@@ -40,8 +41,58 @@ KOKKOS_INLINE_FUNCTION double bilinear_spring(double k, double u, double f_yield
   return fabs_(force) * dgamma;  // the dissipation of the return (backward Euler)
 }
 
+// Continuum stress of each converted cell from its 4 discs: deformation gradient F at the cell
+// centre (reference one-point gradients), Green-Lagrange strain E = (F^T F - I)/2 (rotation
+// invariant, so fragments may spin), and the lattice's own elastic law S = C : E (the C the
+// bonds reproduce). A cell with a broken bond is no longer a continuum: it is marked not intact.
+inline void compute_cell_stress(const View<int*>& cells, int count,
+                                const View<int* [6]>& element_bonds,
+                                const View<const LatticeStiffness*>& stiffness,
+                                const Elements& elements, const Nodes& nodes, const Bonds& bonds) {
+  if (count == 0) return;
+  Kokkos::parallel_for(
+      "fracta::cell_stress", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(const int k) {
+        const int e = cells(k);
+        int intact = 1;
+        for (int a = 0; a < 6; ++a) {
+          const int b = element_bonds(e, a);
+          if (b >= 0 && bonds.state(b) == kBondBroken) intact = 0;
+        }
+        elements.cell_intact(e) = intact;
+        double x0[4], y0[4], ux[4], uy[4];
+        for (int a = 0; a < 4; ++a) {
+          const int n = elements.nodes(e, a);
+          x0[a] = nodes.x0(n, 0);
+          y0[a] = nodes.x0(n, 1);
+          ux[a] = nodes.x(n, 0) - x0[a];
+          uy[a] = nodes.x(n, 1) - y0[a];
+        }
+        const double A =
+            0.5 * ((x0[2] - x0[0]) * (y0[3] - y0[1]) + (x0[1] - x0[3]) * (y0[2] - y0[0]));
+        double H[2][2] = {{0, 0}, {0, 0}};  // displacement gradient
+        for (int a = 0; a < 4; ++a) {
+          const double bx = (y0[(a + 1) % 4] - y0[(a + 3) % 4]) / (2.0 * A);
+          const double by = (x0[(a + 3) % 4] - x0[(a + 1) % 4]) / (2.0 * A);
+          H[0][0] += ux[a] * bx;
+          H[0][1] += ux[a] * by;
+          H[1][0] += uy[a] * bx;
+          H[1][1] += uy[a] * by;
+        }
+        // E = (H + H^T + H^T H) / 2
+        const double exx = H[0][0] + 0.5 * (H[0][0] * H[0][0] + H[1][0] * H[1][0]);
+        const double eyy = H[1][1] + 0.5 * (H[0][1] * H[0][1] + H[1][1] * H[1][1]);
+        const double exy = 0.5 * (H[0][1] + H[1][0] + H[0][0] * H[0][1] + H[1][0] * H[1][1]);
+        const LatticeStiffness s = stiffness(elements.material(e));
+        const double c = s.youngs_modulus_eff / (1.0 - s.poisson_ratio_eff * s.poisson_ratio_eff);
+        elements.cell_stress(e, 0) = c * (exx + s.poisson_ratio_eff * eyy);
+        elements.cell_stress(e, 1) = c * (eyy + s.poisson_ratio_eff * exx);
+        elements.cell_stress(e, 2) = s.youngs_modulus_eff / (1.0 + s.poisson_ratio_eff) * exy;
+      });
+}
+
 struct BondForces {
   Nodes nodes;
+  Elements elements;
   Bonds bonds;
   View<const BondLaw*> laws;
   double dt;
@@ -52,6 +103,11 @@ struct BondForces {
     const double dx = nodes.x(j, 0) - nodes.x(i, 0), dy = nodes.x(j, 1) - nodes.x(i, 1);
     const double length = sqrt_(dx * dx + dy * dy);
     const double nx = dx / length, ny = dy / length;  // n; t = (-ny, nx)
+    // Lever arms to the contact point, which splits the current length in the ratio of the
+    // radii: then the moments l_i fs + l_j fs = L fs balance the couple of the shear forces
+    // exactly (angular momentum is conserved whatever the stretch).
+    const double ri = nodes.radius(i), rj = nodes.radius(j);
+    const double li = length * ri / (ri + rj), lj = length * rj / (ri + rj);
     const BondLaw law = laws(bonds.material(b));
     const double kn = bonds.kn(b), ks = bonds.ks(b), area = bonds.area(b), L0 = bonds.length0(b);
     // Bilinear parameters in force units: yield force = yield stress * S, hardening modulus
@@ -65,11 +121,6 @@ struct BondForces {
     if (ks > 0.0) {
       // Shear displacement increment (paper Eq. 8 corrected): relative tangential velocity
       // of the contact point, with the disc rotations (DESIGN.md 1.2).
-      // Lever arms to the contact point, which splits the current length in the ratio of the
-      // radii: then the moments L_i fs + L_j fs = L fs balance the couple of the shear forces
-      // exactly (angular momentum is conserved whatever the stretch).
-      const double ri = nodes.radius(i), rj = nodes.radius(j);
-      const double li = length * ri / (ri + rj), lj = length * rj / (ri + rj);
       const double dvt = -(nodes.v(j, 0) - nodes.v(i, 0)) * ny +
                          (nodes.v(j, 1) - nodes.v(i, 1)) * nx -
                          (li * nodes.spin(i) + lj * nodes.spin(j));
@@ -77,13 +128,39 @@ struct BondForces {
       const double us = bonds.fs(b) / ks + us_p + dvt * dt;
       plastic += bilinear_spring(ks, us, fy_s, k_hard, us_p, alpha, fs);
     }
-    // Failure (paper Sec. 2.3, Eq. 6 corrected): Mohr-Coulomb with tension cut-off on the bond
-    // stresses sigma_n = fn / S (tension positive) and tau = |fs| / S.
-    const double sigma_n = area > 0.0 ? fn / area : 0.0;
-    const double tau = area > 0.0 ? fabs_(fs) / area : 0.0;
+    // Failure (paper Sec. 2.3 with Eq. 6 corrected; DESIGN.md 1.2): Mohr-Coulomb with tension
+    // cut-off on the face the bond stands for: the cell face normal to an edge bond, the
+    // diagonal plane for a diagonal bond. Its traction (sigma_n = n.s.n, tension positive;
+    // tau = |t.s.n|) comes from the continuum stress of the intact cells around the bond
+    // (compute_cell_stress), so uniaxial tension breaks it at sigma_t and a direct shear test
+    // at tau = c + sigma tan(phi): a single bond's fn / S cannot see the stress along its face
+    // (the Poisson coupling) and would miss the envelope under confinement. With no intact cell
+    // left around it (a fragment's edge), the bond's own stresses fn / S and |fs| / S are used.
+    double sigma_n, tau;
+    {
+      double s3[3] = {0, 0, 0};
+      int cells = 0;
+      for (int k = 0; k < 2; ++k) {
+        const int c = bonds.cells(b, k);
+        if (c < 0 || !elements.cell_intact(c)) continue;
+        for (int q = 0; q < 3; ++q) s3[q] += elements.cell_stress(c, q);
+        ++cells;
+      }
+      if (cells > 0) {
+        // Reference-frame stress with the reference bond direction (rotation invariant).
+        const double ux = nodes.x0(j, 0) - nodes.x0(i, 0), uy = nodes.x0(j, 1) - nodes.x0(i, 1);
+        const double n0x = ux / L0, n0y = uy / L0;
+        const double sxx = s3[0] / cells, syy = s3[1] / cells, sxy = s3[2] / cells;
+        sigma_n = sxx * n0x * n0x + syy * n0y * n0y + 2.0 * sxy * n0x * n0y;
+        tau = fabs_(-(sxx * n0x + sxy * n0y) * n0y + (sxy * n0x + syy * n0y) * n0x);
+      } else {
+        sigma_n = area > 0.0 ? fn / area : 0.0;
+        tau = area > 0.0 ? fabs_(fs) / area : 0.0;
+      }
+    }
     const bool tension = law.tensile_strength > 0.0 && sigma_n >= law.tensile_strength;
     const bool shear = law.cohesion > 0.0 && tau >= law.cohesion - sigma_n * law.tan_friction;
-    if (area > 0.0 && (tension || shear)) {
+    if (tension || shear) {
       // Released as fracture energy: what the bond held, 1/2 f_old^2/k, plus what the discs did
       // on it this step by the trapezoidal rule with the zero force it now applies,
       // 1/2 f_old (f - f_old)/k: together 1/2 f_old f / k per spring. (Counting the trial
@@ -106,27 +183,27 @@ struct BondForces {
     bonds.hardening(b) = alpha;
     bonds.plastic_work(b) += plastic;
     acc.v[1] += plastic;
-    // Force on i: fn n + fs t; on j the opposite; moment r fs on both discs (DESIGN.md 1.2).
+    // Force on i: fn n + fs t; on j the opposite; moments l_i fs and l_j fs (DESIGN.md 1.2).
     const double fx = fn * nx - fs * ny, fy = fn * ny + fs * nx;
     Kokkos::atomic_add(&nodes.f(i, 0), fx);
     Kokkos::atomic_add(&nodes.f(i, 1), fy);
     Kokkos::atomic_add(&nodes.f(j, 0), -fx);
     Kokkos::atomic_add(&nodes.f(j, 1), -fy);
     if (ks > 0.0) {
-      const double ri = nodes.radius(i), rj = nodes.radius(j);
-      Kokkos::atomic_add(&nodes.moment(i), length * ri / (ri + rj) * fs);
-      Kokkos::atomic_add(&nodes.moment(j), length * rj / (ri + rj) * fs);
+      Kokkos::atomic_add(&nodes.moment(i), li * fs);
+      Kokkos::atomic_add(&nodes.moment(j), lj * fs);
     }
   }
 };
 
-inline BondStepResult compute_bond_forces(const Nodes& nodes, const Bonds& bonds,
-                                          const View<const BondLaw*>& laws, double dt) {
+inline BondStepResult compute_bond_forces(const Nodes& nodes, const Elements& elements,
+                                          const Bonds& bonds, const View<const BondLaw*>& laws,
+                                          double dt) {
   BondStepResult r;
   if (bonds.count == 0) return r;
   Sums<3> s;
   Kokkos::parallel_reduce("fracta::bond_forces", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
-                          BondForces{nodes, bonds, laws, dt}, Kokkos::Sum<Sums<3>>(s));
+                          BondForces{nodes, elements, bonds, laws, dt}, Kokkos::Sum<Sums<3>>(s));
   r.fracture_energy = s.v[0];
   r.plastic_work = s.v[1];
   r.broken = static_cast<long>(s.v[2] + 0.5);

@@ -16,9 +16,19 @@ inline void apply_loads(const Nodes& nodes, const LoadTables& tables, const Pres
         KOKKOS_LAMBDA(const int k) {
           const int a = edges.nodes(k, 0), b = edges.nodes(k, 1);
           const double p = table_value(tables, edges.load(k), time);
-          // Outward normal times length is (dy, -dx); pressure pushes inwards, half per node.
+          // Outward normal times length is (dy, -dx); pressure pushes inwards. A traction acts
+          // along its fixed direction over the current edge length. Half per node.
           const double dx = x(b, 0) - x(a, 0), dy = x(b, 1) - x(a, 1);
-          const double fx = -0.5 * p * thickness * dy, fy = 0.5 * p * thickness * dx;
+          const double tx = edges.direction(k, 0), ty = edges.direction(k, 1);
+          double fx, fy;
+          if (tx == 0.0 && ty == 0.0) {
+            fx = -0.5 * p * thickness * dy;
+            fy = 0.5 * p * thickness * dx;
+          } else {
+            const double len = sqrt_(dx * dx + dy * dy);
+            fx = 0.5 * p * thickness * len * tx;
+            fy = 0.5 * p * thickness * len * ty;
+          }
           Kokkos::atomic_add(&f_ext(a, 0), fx);
           Kokkos::atomic_add(&f_ext(a, 1), fy);
           Kokkos::atomic_add(&f_ext(b, 0), fx);

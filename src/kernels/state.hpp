@@ -61,6 +61,7 @@ struct Bonds {
   View<double*> plastic_s;     // plastic slip (m) of the bilinear shear spring
   View<double*> hardening;     // accumulated plastic displacement (m), isotropic hardening
   View<double*> plastic_work;  // cumulative (J)
+  View<int* [2]> cells;        // converted cells whose face (edge) or body (diagonal) it is; -1
   int count = 0;
 };
 
@@ -95,7 +96,10 @@ struct Elements {
   View<int*> body;
   View<int*> active;  // active element indices, increasing
   View<int*> alive;   // 1 while the element is an active FE element (per mesh element)
-  int count = 0;      // all elements of the mesh
+  // Converted cells (the lattice): continuum stress from the discs' motion, for bond failure.
+  View<double* [3]> cell_stress;  // Pa: xx, yy, xy (reference frame)
+  View<int*> cell_intact;         // 1 while none of the cell's bonds is broken
+  int count = 0;                  // all elements of the mesh
   int active_count = 0;
   int qp_per_element = 1;  // 1 (reduced + hourglass control) or 4 (2x2 Gauss)
   // Per quadrature point.
@@ -120,11 +124,12 @@ struct LoadTables {
   int count = 0;
 };
 
-// Pressure acting on boundary edges: node a -> node b in the element's counter-clockwise order,
-// so the outward normal times the edge length is (dy, -dx).
+// Pressure (or traction) acting on boundary edges: node a -> node b in the element's
+// counter-clockwise order, so the outward normal times the edge length is (dy, -dx).
 struct PressureEdges {
   View<int* [2]> nodes;
   View<int*> load;
+  View<double* [2]> direction;  // (0, 0): pressure along the inward normal; else a traction
   int count = 0;
 };
 

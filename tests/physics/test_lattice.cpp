@@ -83,5 +83,55 @@ TEST(LatticeFailure, UniaxialTensionFailsAtTensileStrength) {
   }
 }
 
+// Shear test: a lattice block of a Mohr-Coulomb material under a confining pressure p (ramped
+// first) and then a slowly ramped pure shear stress tau (tractions on all four faces). The faces
+// of the orthogonal bonds carry (sigma_n, tau) = (-p, tau), so the block must fail on the
+// Mohr-Coulomb envelope tau = c + p tan(phi) (DESIGN.md 1.2). Ramps of ~100 wave transits keep
+// the dynamic overshoot near 1%; the tolerance is 5%.
+double run_shear(double p) {
+  const double h = 1e-3, E = 30e9, nu = 0.2, rho = 2400.0;
+  const double c_coh = 5e6, phi = 30.0 * M_PI / 180.0;
+  const int n = 16;
+  const double L = n * h;
+  Case c = test::rectangle_case(n, n, h, E, nu, rho, Formulation::plane_stress);
+  c.bodies[0].method = BodyMethod::de;
+  Material& m = c.materials[0];
+  m.model = MaterialModel::mohr_coulomb;
+  m.cohesion = c_coh;
+  m.friction_angle = phi;
+  m.tensile_strength = 50e6;  // out of the way: this test is about shear
+  const double transit = L / std::sqrt(E / rho);
+  const double t1 = 100 * transit, tau_max = 2.0 * (c_coh + p * std::tan(phi));
+  const double t2 = t1 + 200 * transit;  // tau reaches tau_max: failure expected halfway
+  const std::vector<double> tp{0.0, t1}, vp{0.0, p}, tt{0.0, t1, t2}, vt{0.0, 0.0, tau_max};
+  using test::segment;
+  for (const Segment& s :
+       {segment(0, 0, L, 0), segment(L, 0, L, L), segment(L, L, 0, L), segment(0, L, 0, 0)})
+    test::add_pressure(c, s, tp, vp);
+  test::add_traction(c, segment(0, L, L, L), {1, 0}, tt, vt);
+  test::add_traction(c, segment(0, 0, L, 0), {-1, 0}, tt, vt);
+  test::add_traction(c, segment(L, 0, L, L), {0, 1}, tt, vt);
+  test::add_traction(c, segment(0, 0, 0, L), {0, -1}, tt, vt);
+  c.sim.end_time = t2;
+  Simulation sim(c);
+  while (sim.time() < c.sim.end_time * (1 - 1e-12) && !sim.failed()) {
+    sim.step();
+    if (sim.steps() % 10 == 0 && sim.history().count.broken_bonds > 0)
+      return sim.time() < t1 ? -1.0 : tau_max * (sim.time() - t1) / (t2 - t1);
+  }
+  return -2.0;  // never failed
+}
+
+TEST(LatticeFailure, ShearFailsOnMohrCoulombEnvelope) {
+  const double tan_phi = std::tan(30.0 * M_PI / 180.0);
+  for (double p : {0.0, 10e6}) {
+    const double expected = 5e6 + p * tan_phi;
+    const double tau = run_shear(p);
+    EXPECT_NEAR(tau, expected, 0.05 * expected) << "confinement " << p;
+    RecordProperty("shear_failure_p" + std::to_string(static_cast<int>(p / 1e6)) + "MPa",
+                   std::to_string(tau / expected));
+  }
+}
+
 }  // namespace
 }  // namespace fracta
