@@ -14,7 +14,8 @@ namespace fracta {
 
 namespace {
 
-// Stress the probe reports: the element's quadrature-point average.
+// Stress the probe reports: the element's quadrature-point average, or for a converted cell
+// the stress of its discs.
 struct ProbeGather {
   Nodes nodes;
   Elements elements;
@@ -27,7 +28,10 @@ struct ProbeGather {
     out(k, 2) = nodes.v(n, 0);
     out(k, 3) = nodes.v(n, 1);
     double s[3] = {0, 0, 0};
-    if (e >= 0) {
+    if (e >= 0 && !elements.alive(e) && elements.cell_stress.extent(0) > 0) {
+      // A converted cell: the continuum stress of its discs (compute_cell_stress).
+      for (int q = 0; q < 3; ++q) s[q] = elements.cell_stress(e, q);
+    } else if (e >= 0) {
       const int qp = elements.qp_per_element;
       for (int g = 0; g < qp; ++g) {
         s[0] += elements.stress(e * qp + g, 0) / qp;
