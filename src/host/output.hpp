@@ -66,6 +66,13 @@ struct FrameData {
   std::vector<double> element_plastic_strain;
   std::vector<double> element_pressure;  // Pa, -(sxx + syy + szz) / 3
   std::vector<double> element_von_mises; // Pa
+  // Discs (particles): node id, radius (m), rotation (rad), spin (rad/s), one entry per disc.
+  std::vector<int> particle_node;
+  std::vector<double> particle_radius, particle_rotation, particle_spin;
+  // Bonds that are or were active: node pair (2 per bond), state (1 active, 2 broken), normal
+  // force (N, tension positive; 0 once broken).
+  std::vector<int> bond_nodes, bond_state;
+  std::vector<double> bond_normal_force;
   std::vector<std::string> fields;    // which optional fields to write ("velocity", "stress", ...)
 };
 

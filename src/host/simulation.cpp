@@ -273,6 +273,30 @@ FrameData Simulation::frame(const std::vector<std::string>& fields) {
                          (s[2] - s[0]) * (s[2] - s[0])) +
                   3.0 * s[3] * s[3]));
   }
+  if (n.has_particles()) {
+    auto particle = Kokkos::create_mirror_view_and_copy(HostSpace(), n.particle);
+    auto radius = Kokkos::create_mirror_view_and_copy(HostSpace(), n.radius);
+    auto rotation = Kokkos::create_mirror_view_and_copy(HostSpace(), n.rotation);
+    auto spin = Kokkos::create_mirror_view_and_copy(HostSpace(), n.spin);
+    for (int i = 0; i < n.count; ++i)
+      if (particle(i)) {
+        f.particle_node.push_back(i);
+        f.particle_radius.push_back(radius(i));
+        f.particle_rotation.push_back(rotation(i));
+        f.particle_spin.push_back(spin(i));
+      }
+    const Bonds& b = model_.bonds;
+    auto state = Kokkos::create_mirror_view_and_copy(HostSpace(), b.state);
+    auto ends = Kokkos::create_mirror_view_and_copy(HostSpace(), b.nodes);
+    auto fn = Kokkos::create_mirror_view_and_copy(HostSpace(), b.fn);
+    for (int k = 0; k < b.count; ++k)
+      if (state(k) != kBondInactive) {
+        f.bond_nodes.push_back(ends(k, 0));
+        f.bond_nodes.push_back(ends(k, 1));
+        f.bond_state.push_back(state(k));
+        f.bond_normal_force.push_back(fn(k));
+      }
+  }
   return f;
 }
 
