@@ -1,0 +1,105 @@
+#include "host/contact.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace fracta {
+
+ContactSystem::ContactSystem(std::vector<int> disc_nodes, const ContactParams& params, double skin)
+    : skin_(skin) {
+  if (!(skin >= 0.0)) throw std::invalid_argument("contact skin must be >= 0");
+  if (!(params.damping_ratio >= 0.0) || !(params.friction >= 0.0))
+    throw std::invalid_argument("contact damping_ratio and friction must be >= 0");
+  law_.damping_ratio = params.damping_ratio;
+  law_.friction = params.friction;
+  set_disc_nodes(std::move(disc_nodes));
+}
+
+void ContactSystem::set_disc_nodes(std::vector<int> disc_nodes) {
+  std::sort(disc_nodes.begin(), disc_nodes.end());
+  disc_nodes.erase(std::unique(disc_nodes.begin(), disc_nodes.end()), disc_nodes.end());
+  if (!disc_nodes.empty() && disc_nodes.front() < 0)
+    throw std::invalid_argument("contact disc node ids must be >= 0");
+  const size_t n = disc_nodes.size();
+  discs_ = View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_discs"), n);
+  Kokkos::View<const int*, HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> host(
+      disc_nodes.data(), n);
+  Kokkos::deep_copy(discs_, host);
+  x_build_ = View<double* [2]>("fracta::contact_x_build", n);
+  cell_discs_ = View<int*>("fracta::contact_cell_discs", n);
+  row_offset_ = View<int*>("fracta::contact_row_offset", n + 1);
+  built_ = false;
+}
+
+void ContactSystem::set_all_pairs(bool on) {
+  if (on != all_pairs_) built_ = false;
+  all_pairs_ = on;
+}
+
+bool ContactSystem::update(const Nodes& nodes) {
+  if (built_) {
+    const double half = 0.5 * skin_;
+    if (max_displacement_sq(nodes, discs_, x_build_) <= half * half) return false;
+  }
+  rebuild(nodes);
+  return true;
+}
+
+void ContactSystem::rebuild(const Nodes& nodes) {
+  Kokkos::Profiling::pushRegion("fracta::contact_search");
+  const int n = disc_count();
+  CellGrid grid;
+  if (!all_pairs_ && n > 0) {
+    grid = make_grid(disc_bounds(nodes, discs_), skin_, std::max(4L * n, 1024L));
+    const long cells = grid.cell_count();
+    if (static_cast<long>(cell_cursor_.extent(0)) < cells) {
+      cell_start_ = View<int*>("fracta::contact_cell_start", cells + 1);
+      cell_cursor_ = View<int*>("fracta::contact_cell_cursor", cells);
+    }
+    bin_discs(nodes, discs_, grid, cell_start_, cell_cursor_, cell_discs_);
+  }
+  count_candidates(nodes, discs_, skin_, all_pairs_, grid, cell_start_, cell_discs_, row_offset_);
+  const long total = scan_rows(row_offset_, n);
+  if (total > 2147483647L) throw std::runtime_error("contact: more than 2^31 candidate pairs");
+  if (static_cast<long>(pair_i_.extent(0)) < total) {
+    const long capacity = total + total / 4 + 16;  // headroom: fewer reallocations
+    pair_i_ = View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_pair_i"),
+                         capacity);
+    pair_j_ = View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_pair_j"),
+                         capacity);
+  }
+  fill_candidates(nodes, discs_, skin_, all_pairs_, grid, cell_start_, cell_discs_, row_offset_,
+                  pair_i_, pair_j_);
+  record_positions(nodes, discs_, x_build_);
+  pair_count_ = total;
+  built_ = true;
+  ++rebuilds_;
+  Kokkos::Profiling::popRegion();
+}
+
+ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, const Topology& topo,
+                                                double dt) {
+  if (!built_) throw std::logic_error("ContactSystem::compute_forces before update");
+  Kokkos::Profiling::pushRegion("fracta::contact_forces");
+  const ContactSums s = contact_forces(nodes, topo, pair_i_, pair_j_, pair_count_, law_, dt);
+  Kokkos::Profiling::popRegion();
+  ContactStepResult r;
+  r.elastic_energy = s.v[0];
+  r.dissipated = s.v[1];
+  r.touching = static_cast<long>(s.v[2] + 0.5);
+  return r;
+}
+
+std::vector<std::array<int, 2>> ContactSystem::candidate_pairs_host() const {
+  std::vector<std::array<int, 2>> out(static_cast<size_t>(pair_count_));
+  if (pair_count_ == 0) return out;
+  const auto range = std::make_pair(0L, pair_count_);
+  auto hi = Kokkos::create_mirror_view_and_copy(HostSpace(), Kokkos::subview(pair_i_, range));
+  auto hj = Kokkos::create_mirror_view_and_copy(HostSpace(), Kokkos::subview(pair_j_, range));
+  for (long p = 0; p < pair_count_; ++p) out[p] = {hi(p), hj(p)};
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace fracta

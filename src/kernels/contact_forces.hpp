@@ -1,0 +1,153 @@
+// Disc-disc contact forces (DESIGN.md 1.2: broken bonds become contacts; the same law serves
+// every contact in the code), evaluated over the candidate pairs of the pre-search.
+//
+// Geometry of a pair (i, j), the same conventions as the bonds (state.hpp):
+//   n = (x_j - x_i) / d, t = n rotated by +90 degrees, overlap delta = r_i + r_j - d.
+//   The contact point lies on the centre line in the middle of the overlap, at the lever arms
+//   a_i = r_i - delta/2 from x_i and a_j = r_j - delta/2 from x_j (a_i + a_j = d). Using the
+//   arms a rather than the radii r makes the pair's forces and moments free of any net torque,
+//   so angular momentum is conserved exactly; with r the pair would add the torque fs * delta.
+//   Relative tangential velocity of disc j with respect to disc i at the contact point
+//   (spin counter-clockwise positive):  vt = (v_j - v_i) . t - (a_i w_i + a_j w_j).
+//
+// Law (compression only, no adhesion):
+//   normal:  fn = max(0, k delta + c delta_dot), delta_dot = -(v_j - v_i) . n,
+//            k = 2 k_i k_j / (k_i + k_j) (series springs), c = 2 zeta sqrt(k m_eff),
+//            m_eff = m_i m_j / (m_i + m_j);
+//   friction (history-free regularised Coulomb):
+//            fs = mu fn vt / max(|vt|, v_reg)    (tangential force on disc i along t),
+//   force on i: -fn n + fs t, on j the opposite; moments a_i fs on i and a_j fs on j.
+//
+// Static friction is regularised, NOT exact: below |vt| = v_reg friction acts as a viscous
+// damper mu fn / v_reg, so a disc "at rest" on a slope creeps with a tangential speed of order
+// v_reg (tan(slope) / mu). v_reg = max(v_reg_min, mu fn dt / m_t), m_t the pair's tangential
+// effective mass (1/m_t = 1/m_i + 1/m_j + a_i^2/I_i + a_j^2/I_j): the second term is the
+// speed that one step of full friction removes, so the viscous branch brings vt to zero in
+// about one step instead of flipping its sign every step (chatter); v_reg_min (1e-6 m/s by
+// default) only matters when the normal force is tiny.
+//
+// Special cases: a disc whose fixed bits are both set has infinite mass for m_eff and m_t
+// (a wall); pairs of two such discs are skipped. A disc that is not a particle (an FE
+// boundary node) has no rotational DOF: its spin counts as zero and it receives no moment.
+// Coincident centres (d = 0) have no normal and are skipped.
+//
+// Energy: elastic 1/2 k delta^2 at the end of the step; dissipation of the step
+// ((fn - k delta) delta_dot + fs vt) dt. While fn > 0 the normal term is the damping power
+// c delta_dot^2; while the force is clamped at zero (k delta + c delta_dot < 0, the discs
+// separate faster than the spring relaxes) it is -k delta delta_dot > 0, the spring energy
+// lost because the clamped spring no longer pushes. So K + elastic + dissipated is conserved
+// by the law. Discretely, the work velocity Verlet does with the force F(n) is F(n).v(n) dt with
+// the FULL-step velocity v(n) = v(n-1/2) + dt/2 a(n), while the kernel sees v(n-1/2): using
+// the half-step rates would bias the dissipation by about zeta omega dt (0.8% at zeta = 0.6,
+// dt = t_c/200). The rates are therefore advanced by the half kick of the pair's own force
+// (delta_dot - dt/2 fn (1/m_i + 1/m_j), vt - dt/2 fs / m_t): exact to O(dt^2) for an isolated
+// pair; with other forces on the discs (bonds, FE, other contacts) their half kick is not
+// included, an O(dt) remainder. fs vt stays >= 0 (v_reg >= mu fn dt / m_t); the normal term
+// of one step may be slightly negative near maximum compression, its sum is what matters.
+#pragma once
+#include "kernels/compat.hpp"
+#include "kernels/state.hpp"
+
+namespace fracta {
+
+struct ContactLaw {
+  double damping_ratio = 0.1;  // zeta
+  double friction = 0.3;       // mu
+  double v_reg_min = 1e-6;     // m/s
+};
+
+// Result of one evaluation: v[0] elastic energy (J), v[1] dissipation of this step (J),
+// v[2] number of touching pairs (overlap > 0 and not joined).
+using ContactSums = Sums<3>;
+
+struct ContactForceKernel {
+  View<const int*> pair_i, pair_j;
+  View<const double*[2]> x, v;
+  View<const double*> mass, radius, inertia, spin, stiffness;
+  View<const int*> fixed, particle;
+  View<double* [2]> f;
+  View<double*> moment;
+  Topology topo;
+  ContactLaw law;
+  double dt;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int p, ContactSums& sums) const {
+    const int i = pair_i(p), j = pair_j(p);
+    const double dx = x(j, 0) - x(i, 0), dy = x(j, 1) - x(i, 1);
+    const double ri = radius(i), rj = radius(j);
+    const double d2 = dx * dx + dy * dy;
+    if (d2 >= (ri + rj) * (ri + rj) || d2 <= 0.0) return;
+    const int wall = kFixX | kFixY;
+    const double inv_mi = (fixed(i) & wall) == wall ? 0.0 : 1.0 / mass(i);
+    const double inv_mj = (fixed(j) & wall) == wall ? 0.0 : 1.0 / mass(j);
+    if (inv_mi + inv_mj <= 0.0) return;
+    if (topo.joined(i, j)) return;
+
+    const double d = sqrt_(d2);
+    const double delta = ri + rj - d;
+    const double nx = dx / d, ny = dy / d;
+    const double tx = -ny, ty = nx;
+    const double ai = ri - 0.5 * delta, aj = rj - 0.5 * delta;
+    const bool rot_i = particle(i) != 0 && inertia(i) > 0.0;
+    const bool rot_j = particle(j) != 0 && inertia(j) > 0.0;
+    const double wi = rot_i ? spin(i) : 0.0, wj = rot_j ? spin(j) : 0.0;
+    const double vx = v(j, 0) - v(i, 0), vy = v(j, 1) - v(i, 1);
+    const double delta_dot = -(vx * nx + vy * ny);
+    const double vt = vx * tx + vy * ty - (ai * wi + aj * wj);
+
+    const double ki = stiffness(i), kj = stiffness(j);
+    const double k = ki + kj > 0.0 ? 2.0 * ki * kj / (ki + kj) : 0.0;
+    const double m_eff = 1.0 / (inv_mi + inv_mj);
+    const double c = 2.0 * law.damping_ratio * sqrt_(k * m_eff);
+    const double fn = max_(0.0, k * delta + c * delta_dot);
+
+    double inv_mt = inv_mi + inv_mj;
+    if (rot_i && inv_mi > 0.0) inv_mt += ai * ai / inertia(i);
+    if (rot_j && inv_mj > 0.0) inv_mt += aj * aj / inertia(j);
+    const double v_reg = max_(law.v_reg_min, law.friction * fn * dt * inv_mt);
+    const double fs = law.friction * fn * vt / max_(fabs_(vt), v_reg);
+
+    const double fx = -fn * nx + fs * tx, fy = -fn * ny + fs * ty;  // on disc i
+    Kokkos::atomic_add(&f(i, 0), fx);
+    Kokkos::atomic_add(&f(i, 1), fy);
+    Kokkos::atomic_add(&f(j, 0), -fx);
+    Kokkos::atomic_add(&f(j, 1), -fy);
+    if (rot_i) Kokkos::atomic_add(&moment(i), ai * fs);
+    if (rot_j) Kokkos::atomic_add(&moment(j), aj * fs);
+
+    // Dissipation with the full-step rates the pair's own force produces (see the header).
+    const double delta_dot_full = delta_dot - 0.5 * dt * fn * (inv_mi + inv_mj);
+    const double vt_full = vt - 0.5 * dt * fs * inv_mt;
+    sums.v[0] += 0.5 * k * delta * delta;
+    sums.v[1] += ((fn - k * delta) * delta_dot_full + fs * vt_full) * dt;
+    sums.v[2] += 1.0;
+  }
+};
+
+// Adds the contact forces of the candidate pairs [0, count) to nodes.f and nodes.moment.
+inline ContactSums contact_forces(const Nodes& nodes, const Topology& topo,
+                                  const View<const int*>& pair_i, const View<const int*>& pair_j,
+                                  long count, const ContactLaw& law, double dt) {
+  ContactForceKernel kernel{pair_i,
+                            pair_j,
+                            nodes.x,
+                            nodes.v,
+                            nodes.mass,
+                            nodes.radius,
+                            nodes.inertia,
+                            nodes.spin,
+                            nodes.contact_stiffness,
+                            nodes.fixed,
+                            nodes.particle,
+                            nodes.f,
+                            nodes.moment,
+                            topo,
+                            law,
+                            dt};
+  ContactSums sums;
+  Kokkos::parallel_reduce("fracta::contact_forces", Kokkos::RangePolicy<ExecSpace>(0, count),
+                          kernel, sums);
+  return sums;
+}
+
+}  // namespace fracta

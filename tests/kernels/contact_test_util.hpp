@@ -1,0 +1,133 @@
+// Helpers of the contact tests (NeighborSearch*, Contact*) and the contact benchmark: discs
+// built by hand as Nodes (every view allocated, particle views included) and Topologies.
+#pragma once
+#include <array>
+#include <vector>
+
+#include "kernels/state.hpp"
+
+namespace fracta::test {
+
+// Host description of a set of discs; node n is disc n.
+struct HostDiscs {
+  std::vector<double> x, y, vx, vy, r, m, k, spin;
+  std::vector<int> fixed, particle;
+
+  int size() const { return static_cast<int>(x.size()); }
+  // A particle disc of uniform density (I = m r^2 / 2).
+  void add(double x_, double y_, double r_, double m_, double k_, double vx_ = 0, double vy_ = 0,
+           double spin_ = 0, int fixed_ = 0) {
+    x.push_back(x_);
+    y.push_back(y_);
+    r.push_back(r_);
+    m.push_back(m_);
+    k.push_back(k_);
+    vx.push_back(vx_);
+    vy.push_back(vy_);
+    spin.push_back(spin_);
+    fixed.push_back(fixed_);
+    particle.push_back(1);
+  }
+};
+
+inline Nodes make_nodes(const HostDiscs& h) {
+  const int n = h.size();
+  Nodes nodes;
+  nodes.count = n;
+  nodes.x0 = View<double* [2]>("fracta::test_x0", n);
+  nodes.x = View<double* [2]>("fracta::test_x", n);
+  nodes.v = View<double* [2]>("fracta::test_v", n);
+  nodes.f = View<double* [2]>("fracta::test_f", n);
+  nodes.f_ext = View<double* [2]>("fracta::test_f_ext", n);
+  nodes.mass = View<double*>("fracta::test_mass", n);
+  nodes.fixed = View<int*>("fracta::test_fixed", n);
+  nodes.body = View<int*>("fracta::test_body", n);
+  nodes.particle = View<int*>("fracta::test_particle", n);
+  nodes.radius = View<double*>("fracta::test_radius", n);
+  nodes.inertia = View<double*>("fracta::test_inertia", n);
+  nodes.rotation = View<double*>("fracta::test_rotation", n);
+  nodes.spin = View<double*>("fracta::test_spin", n);
+  nodes.moment = View<double*>("fracta::test_moment", n);
+  nodes.contact_stiffness = View<double*>("fracta::test_contact_stiffness", n);
+  auto x = Kokkos::create_mirror_view(nodes.x);
+  auto v = Kokkos::create_mirror_view(nodes.v);
+  auto mass = Kokkos::create_mirror_view(nodes.mass);
+  auto fixed = Kokkos::create_mirror_view(nodes.fixed);
+  auto particle = Kokkos::create_mirror_view(nodes.particle);
+  auto radius = Kokkos::create_mirror_view(nodes.radius);
+  auto inertia = Kokkos::create_mirror_view(nodes.inertia);
+  auto spin = Kokkos::create_mirror_view(nodes.spin);
+  auto k = Kokkos::create_mirror_view(nodes.contact_stiffness);
+  for (int i = 0; i < n; ++i) {
+    x(i, 0) = h.x[i];
+    x(i, 1) = h.y[i];
+    v(i, 0) = h.vx.empty() ? 0.0 : h.vx[i];
+    v(i, 1) = h.vy.empty() ? 0.0 : h.vy[i];
+    mass(i) = h.m.empty() ? 1.0 : h.m[i];
+    fixed(i) = h.fixed.empty() ? 0 : h.fixed[i];
+    particle(i) = h.particle.empty() ? 1 : h.particle[i];
+    radius(i) = h.r[i];
+    inertia(i) = 0.5 * mass(i) * radius(i) * radius(i);
+    spin(i) = h.spin.empty() ? 0.0 : h.spin[i];
+    k(i) = h.k.empty() ? 1.0 : h.k[i];
+  }
+  Kokkos::deep_copy(nodes.x, x);
+  Kokkos::deep_copy(nodes.x0, x);
+  Kokkos::deep_copy(nodes.v, v);
+  Kokkos::deep_copy(nodes.mass, mass);
+  Kokkos::deep_copy(nodes.fixed, fixed);
+  Kokkos::deep_copy(nodes.particle, particle);
+  Kokkos::deep_copy(nodes.radius, radius);
+  Kokkos::deep_copy(nodes.inertia, inertia);
+  Kokkos::deep_copy(nodes.spin, spin);
+  Kokkos::deep_copy(nodes.contact_stiffness, k);
+  return nodes;
+}
+
+// A topology over `n` nodes with the given bonds (all active) and elements (all alive, each a
+// list of 4 node ids). Empty lists: nothing is joined.
+inline Topology make_topology(int n, const std::vector<std::array<int, 2>>& bonds = {},
+                              const std::vector<std::array<int, 4>>& elements = {}) {
+  Topology t;
+  const int nb = static_cast<int>(bonds.size()), ne = static_cast<int>(elements.size());
+  t.node_bond_offset = View<int*>("fracta::test_node_bond_offset", n + 1);
+  t.node_bond = View<int*>("fracta::test_node_bond", 2 * nb);
+  t.bond_nodes = View<int* [2]>("fracta::test_bond_nodes", nb);
+  t.bond_state = View<int*>("fracta::test_bond_state", nb);
+  t.node_element_offset = View<int*>("fracta::test_node_element_offset", n + 1);
+  t.node_element = View<int*>("fracta::test_node_element", 4 * ne);
+  t.element_alive = View<int*>("fracta::test_element_alive", ne);
+  auto bo = Kokkos::create_mirror_view(t.node_bond_offset);
+  auto nbv = Kokkos::create_mirror_view(t.node_bond);
+  auto bn = Kokkos::create_mirror_view(t.bond_nodes);
+  auto eo = Kokkos::create_mirror_view(t.node_element_offset);
+  auto nev = Kokkos::create_mirror_view(t.node_element);
+  std::vector<std::vector<int>> node_bonds(n), node_elements(n);
+  for (int b = 0; b < nb; ++b) {
+    bn(b, 0) = bonds[b][0];
+    bn(b, 1) = bonds[b][1];
+    node_bonds[bonds[b][0]].push_back(b);
+    node_bonds[bonds[b][1]].push_back(b);
+  }
+  for (int e = 0; e < ne; ++e)
+    for (int c = 0; c < 4; ++c) node_elements[elements[e][c]].push_back(e);
+  int kb = 0, ke = 0;
+  for (int i = 0; i < n; ++i) {
+    bo(i) = kb;
+    for (int b : node_bonds[i]) nbv(kb++) = b;
+    eo(i) = ke;
+    for (int e : node_elements[i]) nev(ke++) = e;
+  }
+  bo(n) = kb;
+  eo(n) = ke;
+  Kokkos::deep_copy(t.node_bond_offset, bo);
+  Kokkos::deep_copy(t.node_bond, nbv);
+  Kokkos::deep_copy(t.bond_nodes, bn);
+  Kokkos::deep_copy(t.bond_state, static_cast<int>(kBondActive));
+  Kokkos::deep_copy(t.node_element_offset, eo);
+  Kokkos::deep_copy(t.node_element, nev);
+  Kokkos::deep_copy(t.element_alive, 1);
+  return t;
+}
+
+}  // namespace fracta::test
