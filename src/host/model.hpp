@@ -1,9 +1,11 @@
 // The model: device state built from a Case (mesh, masses, materials, loads, constraints).
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "host/case.hpp"
+#include "host/contact.hpp"
 #include "host/mesh.hpp"
 #include "kernels/bond_forces.hpp"
 #include "kernels/conversion.hpp"
@@ -42,6 +44,8 @@ struct Model {
   int converted_count = 0;
   View<LatticeStiffness*> lattice_stiffness;  // per material
   View<BondLaw*> bond_laws;                   // per material
+  // Disc contact (particles and FE boundary nodes); null when the scene has no discs.
+  std::shared_ptr<ContactSystem> contacts;
   std::vector<ProbeSite> probes;
   std::vector<BodyProbeSite> body_probes;
 };

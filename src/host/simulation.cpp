@@ -110,6 +110,17 @@ double Simulation::evaluate_forces(double dt) {
     fracture_energy_ += r.fracture_energy;
     broken_bonds_ += r.broken;
   }
+  if (m.contacts) {
+    {
+      ProfilingRegion region("fracta::contact_search");
+      m.contacts->update(m.nodes);
+    }
+    ProfilingRegion region("fracta::contact_forces");
+    const ContactStepResult r = m.contacts->compute_forces(m.nodes, m.topology, dt);
+    contact_elastic_ = r.elastic_energy;
+    contact_dissipated_ += r.dissipated;
+    touching_ = r.touching;
+  }
   // A negative FE bound flags an inverted element; keep it negative.
   return bound < 0.0 ? bound : std::min(bound, bond_dt_bound_);
 }
@@ -157,7 +168,8 @@ HistoryRecord Simulation::history() {
   const ElementTotals et = element_totals(model_.elements);
   const LatticeTotals lt = lattice_totals(model_.nodes, model_.bonds, dt_nominal);
   r.energy.kinetic = nt.kinetic + lt.rotational_kinetic;
-  r.energy.internal = et.internal + lt.bond_elastic;
+  r.energy.internal = et.internal + lt.bond_elastic + contact_elastic_;
+  r.energy.contact = contact_dissipated_;
   r.energy.plastic = et.plastic + lt.bond_plastic;
   r.energy.fracture = fracture_energy_;
   r.energy.hourglass = et.hourglass;
@@ -181,6 +193,7 @@ HistoryRecord Simulation::history() {
   r.count.composite = lt.composite;
   r.count.bonds = lt.active_bonds;
   r.count.broken_bonds = broken_bonds_;
+  r.count.contacts = touching_;
   if (!std::isfinite(nt.kinetic) || !std::isfinite(et.internal))
     failure_ = "non-finite energy at step " + std::to_string(steps_);
   else if (scale > 0.0 && steps_ > 10 && r.energy.error > model_.scene.sim.energy_error_limit) {
@@ -325,6 +338,7 @@ void for_each_state_view(Nodes& n, Elements& e, Bonds& b, Nodes& sn, Elements& s
   f(n.rotation, sn.rotation);
   f(n.spin, sn.spin);
   f(n.moment, sn.moment);
+  f(n.contact_disc, sn.contact_disc);
   f(e.cell_stress, se.cell_stress);
   f(e.cell_intact, se.cell_intact);
   f(b.state, sb.state);
@@ -358,6 +372,8 @@ void Simulation::save_snapshot() {
   snapshot_.dt_bound = dt_bound_;
   snapshot_.external_work = external_work_;
   snapshot_.fracture_energy = fracture_energy_;
+  snapshot_.contact_dissipated = contact_dissipated_;
+  snapshot_.contact_elastic = contact_elastic_;
   snapshot_.broken_bonds = broken_bonds_;
   snapshot_.active_elements = model_.elements.active_count;
   snapshot_.steps = steps_;
@@ -372,6 +388,9 @@ void Simulation::restore_snapshot() {
   dt_bound_ = snapshot_.dt_bound;
   external_work_ = snapshot_.external_work;
   fracture_energy_ = snapshot_.fracture_energy;
+  contact_dissipated_ = snapshot_.contact_dissipated;
+  contact_elastic_ = snapshot_.contact_elastic;
+  if (model_.contacts) model_.contacts->invalidate();
   broken_bonds_ = snapshot_.broken_bonds;
   model_.elements.active_count = snapshot_.active_elements;
   steps_ = snapshot_.steps;

@@ -46,7 +46,8 @@ class Simulation {
   long steps_ = 0;
   double external_work_ = 0.0, initial_energy_ = 0.0;
   double bond_dt_bound_ = 1e300, fracture_energy_ = 0.0, energy_floor_ = 0.0;
-  long broken_bonds_ = 0;
+  long broken_bonds_ = 0, touching_ = 0;
+  double contact_elastic_ = 0.0, contact_dissipated_ = 0.0;
   std::string failure_;
   View<int*> probe_node_, probe_element_;
   View<double* [7]> probe_values_;
@@ -56,6 +57,7 @@ class Simulation {
     Elements elements;
     Bonds bonds;
     double time = 0, dt = 0, dt_bound = 0, external_work = 0, fracture_energy = 0;
+    double contact_dissipated = 0, contact_elastic = 0;
     long broken_bonds = 0, steps = -1;
     int active_elements = 0;
   } snapshot_;

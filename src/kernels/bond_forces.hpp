@@ -213,7 +213,8 @@ inline BondStepResult compute_bond_forces(const Nodes& nodes, const Elements& el
 // Stable step of the bond network (DESIGN.md 1.4): Gershgorin's bound on the largest
 // eigenvalue of M^-1/2 K M^-1/2 over translations and rotations, row by row. Each bond adds to
 // the rows of its two discs; `contact_allowance` adds that many contacts of the disc's contact
-// stiffness to every particle. Returns 2 / sqrt(lambda_max) (s), or a huge value if no bond.
+// stiffness to every contact disc (particles and FE boundary nodes). Returns 2 / sqrt(lambda_max)
+// (s), or a huge value if no bond.
 inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, int contact_allowance) {
   if (!nodes.has_particles()) return 1e300;
   View<double* [2]> row("fracta::gershgorin_rows", nodes.count);  // translation, rotation
@@ -248,12 +249,13 @@ inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, int contact
   }
   double lambda = 0.0;
   const auto particle = nodes.particle;
+  const auto disc = nodes.contact_disc;
   const auto kc = nodes.contact_stiffness;
   const double allowance = contact_allowance;
   Kokkos::parallel_reduce(
       "fracta::bond_stable_dt", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
       KOKKOS_LAMBDA(const int n, double& lmax) {
-        if (!particle(n)) return;
+        if (!particle(n) && !disc(n)) return;
         // A contact pair adds at most 1.2071 kc (1/m_i + 1/sqrt(m_i m_j)) <= 3.7 kc / m_i
         // (a neighbour of at least a quarter of the mass: a corner node).
         const double contact = allowance * 3.7 * kc(n) / mass(n);

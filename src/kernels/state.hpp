@@ -30,6 +30,7 @@ struct Nodes {
   int count = 0;
   // Particle (disc) state of a node (DESIGN.md 1.3); empty views when no body can convert.
   View<int*> particle;              // 1 if the node is a disc (a DE particle)
+  View<int*> contact_disc;          // 1 if the node takes part in contact (disc or FE boundary)
   View<double*> radius;             // disc radius (m), half the cell size
   View<double*> inertia;            // polar moment m r^2 / 2 (kg m^2)
   View<double*> rotation;           // disc rotation (rad, counter-clockwise)
