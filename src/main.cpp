@@ -23,33 +23,42 @@ void print_info() {
 int check_case(const fracta::Case& c) {
   using namespace fracta;
   const HostMesh mesh = build_mesh(c);
+  const int qp = c.sim.integration == Integration::full ? 4 : 1;
+  const double memory = estimate_memory_bytes(mesh.node_count(), mesh.element_count(), qp);
+  Simulation sim(c);  // validates what the mesh alone cannot (lattice range, stable dt, ...)
+  const HistoryRecord h = sim.history();
+  const Model& m = sim.model();
   std::printf("case %s: %s\n", c.path.c_str(), c.sim.title.c_str());
   std::printf("  %s, thickness %g m, end time %g s\n", to_string(c.sim.formulation),
               c.sim.thickness, c.sim.end_time);
-  for (const Material& m : c.materials)
-    std::printf("  material %-12s %-12s rho %g kg/m^3, E %g Pa, nu %g\n", m.name.c_str(),
-                to_string(m.model), m.density, m.youngs_modulus, m.poisson_ratio);
+  for (const Material& mat : c.materials)
+    std::printf("  material %-12s %-12s rho %g kg/m^3, E %g Pa, nu %g\n", mat.name.c_str(),
+                to_string(mat.model), mat.density, mat.youngs_modulus, mat.poisson_ratio);
   for (size_t b = 0; b < c.bodies.size(); ++b) {
     const BodyRange& r = mesh.bodies[b];
-    std::printf("  body %-12s %-9s material %-10s %d nodes, %d elements, cells %.4g x %.4g mm\n",
+    std::printf("  body %-12s %-9s material %-10s %d nodes, %d cells of %.4g x %.4g mm\n",
                 c.bodies[b].name.c_str(), to_string(c.bodies[b].method),
                 c.bodies[b].material.c_str(), r.node_end - r.node_begin,
                 r.element_end - r.element_begin, r.cell_x * 1e3, r.cell_y * 1e3);
   }
-  const int qp = c.sim.integration == Integration::full ? 4 : 1;
-  std::printf(
-      "  physics: FE (%s integration%s), bulk viscosity %g/%g; no bonds or contact "
-      "needed\n",
-      qp == 1 ? "one-point" : "2x2 Gauss",
-      qp == 1 ? (c.sim.hourglass == HourglassForm::viscous ? ", viscous hourglass control"
-                                                           : ", stiffness hourglass control")
-              : "",
-      c.sim.bulk_viscosity_linear, c.sim.bulk_viscosity_quadratic);
+  std::printf("  FE: %ld active elements, %s integration%s, bulk viscosity %g/%g\n",
+              h.count.elements, qp == 1 ? "one-point" : "2x2 Gauss",
+              qp == 1
+                  ? (c.sim.hourglass == HourglassForm::viscous ? ", viscous hourglass control"
+                                                               : ", stiffness hourglass control")
+                  : "",
+              c.sim.bulk_viscosity_linear, c.sim.bulk_viscosity_quadratic);
+  if (m.contacts)
+    std::printf(
+        "  DE: %ld discs, %ld active bonds of %d slots; contact on %d discs "
+        "(stiffness factor %g, damping ratio %g, friction %g)\n",
+        h.count.particles, h.count.bonds, m.bonds.count, m.contacts->disc_count(),
+        c.contact.stiffness_factor, c.contact.damping_ratio, c.contact.friction);
+  else
+    std::printf("  DE: none (no de body): no bonds, no contact search\n");
   std::printf("  loads %zu, boundary sets %zu, probes %zu, body probes %zu\n", c.loads.size(),
               c.boundaries.size(), c.probes.size(), c.body_probes.size());
-  std::printf("  memory estimate %.1f MB\n",
-              estimate_memory_bytes(mesh.node_count(), mesh.element_count(), qp) / 1e6);
-  Simulation sim(c);
+  std::printf("  memory estimate %.1f MB (FE state)\n", memory / 1e6);
   std::printf("  stable dt bound %.4g s; dt %.4g s (%s); about %.0f steps\n", sim.stable_dt_bound(),
               sim.dt(), c.sim.dt > 0 ? "fixed" : "dt_safety x bound",
               c.sim.end_time / std::max(sim.dt(), 1e-300));
