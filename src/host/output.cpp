@@ -21,8 +21,26 @@
 //   more node storage, and XDMF JOIN functions and hyperslabs did not read correctly.
 // - element_stress (M x 4: sxx, syy, szz, sxy) is Attribute Type "Matrix": 4 components in all
 //   three readers.
-// - A frame without nodes or elements is left out of the .xdmf (an XML comment says so): empty
-//   grids crash the Xdmf3 readers and fail in the XDMF Reader. The .h5 still holds the frame.
+// - Three temporal collections, "mesh" (quadrilaterals), "discs" (Polyvertex, one vertex cell
+//   per disc: connectivity particle_node) and "bonds" (Polyline, NodesPerElement 2:
+//   connectivity bond_nodes), all over the frame's node_position. All three readers load them
+//   (pvbatch, on a mixed FE/DE plate with broken bonds and on a plate of discs only); the
+//   XDMF Reader gives a multiblock with the stable block names mesh/discs/bonds (Extract Block
+//   /Root/discs etc.) and an empty block at times a collection does not list; the Xdmf3 readers
+//   give unnamed blocks. One spatial collection per time step also loads in all three, but the
+//   XDMF Reader then names the blocks mesh, mesh[1], mesh[2], ... so a selection by block name
+//   does not survive a change of time step. (Its grid list names every frame's grid either way.)
+// - Disc quantities (particle_radius, _rotation, _spin) are Cell attributes (one per vertex
+//   cell): the geometry is every node, so a Node attribute would need one value per node. The
+//   disc grid also carries node_velocity/node_displacement (Node). For circles in ParaView:
+//   Cell Centers (one point per disc, the cell arrays become point arrays), then the "Point
+//   Gaussian" representation, Shader Preset "Plain circle", Scale By Array with Scale Array
+//   particle_radius and Use Scale Function off, Gaussian Radius 1 (true radii). Bonds:
+//   bond_state (1 active, 2 broken) and bond_normal_force, Cell attributes.
+// - A frame without nodes or elements, discs or bonds is left out of that collection (an XML
+//   comment says so), and a collection empty in every frame is left out (a pure-FE run has only
+//   "mesh"): empty grids crash the Xdmf3 readers and fail in the XDMF Reader. The .h5 still
+//   holds every frame, with zero-size particle/bond datasets when there are none.
 #include "host/output.hpp"
 
 #include <hdf5.h>
@@ -161,12 +179,19 @@ const ElementField kElementFields[] = {
     {"von_mises", "element_von_mises", &FrameData::element_von_mises, 1},
 };
 
+// Names of the .xdmf's temporal collections (GridKind order), and what an empty one lacks.
+const char* const kGridNames[] = {"mesh", "discs", "bonds"};
+const char* const kEmptyWhat[] = {"nodes or elements", "discs", "bonds"};
+
 // What the .xdmf needs to know about a frame already in the file.
 struct FrameInfo {
   double time = 0;
-  long nodes = 0, elements = 0;
+  long nodes = 0, elements = 0, particles = 0, bonds = 0;
   std::vector<const ElementField*> fields;
 };
+
+// The three kinds of grid of a frame in the .xdmf, one temporal collection each.
+enum class GridKind { mesh, discs, bonds };
 
 herr_t innermost_error(unsigned n, const H5E_error2_t* e, void* data) {
   if (n == 0 && e->desc) *static_cast<std::string*>(data) = e->desc;
@@ -439,6 +464,14 @@ struct OutputFile::Impl {
                                std::to_string(want));
   }
 
+  void check_node_ids(const char* what, const std::vector<int>& ids, std::size_t nodes) const {
+    for (int id : ids)
+      if (id < 0 || static_cast<std::size_t>(id) >= nodes)
+        throw std::runtime_error("output " + path + ": frame " + std::to_string(frame_info.size()) +
+                                 ": " + what + " holds node " + std::to_string(id) +
+                                 ", but the frame has " + std::to_string(nodes) + " nodes");
+  }
+
   void write_frame(const FrameData& f) {
     require_open("write_frame");
     if (f.node_position.size() % 2 != 0 || f.element_nodes.size() % 4 != 0)
@@ -453,6 +486,19 @@ struct OutputFile::Impl {
     check_size("node_velocity", f.node_velocity.size(), 2 * n);
     check_size("element_id", f.element_id.size(), m);
     check_size("element_body", f.element_body.size(), m);
+    if (f.bond_nodes.size() % 2 != 0)
+      throw std::runtime_error("output " + path + ": bond_nodes must hold 2 values per bond");
+    info.particles = static_cast<long>(f.particle_node.size());
+    info.bonds = static_cast<long>(f.bond_nodes.size() / 2);
+    const std::size_t p = info.particles, b = info.bonds;
+    check_size("particle_radius", f.particle_radius.size(), p);
+    check_size("particle_rotation", f.particle_rotation.size(), p);
+    check_size("particle_spin", f.particle_spin.size(), p);
+    check_size("bond_state", f.bond_state.size(), b);
+    check_size("bond_normal_force", f.bond_normal_force.size(), b);
+    // An out-of-range id would make ParaView's readers crash, not fail.
+    check_node_ids("particle_node", f.particle_node, n);
+    check_node_ids("bond_nodes", f.bond_nodes, n);
     // Unknown options (e.g. "velocity", always written, or fields this writer is not given
     // yet) are ignored; the case parser validates the names.
     for (const auto& field : kElementFields) {
@@ -477,6 +523,13 @@ struct OutputFile::Impl {
     write_array(g.get(), "element_body", f.element_body, 1);
     for (const ElementField* field : info.fields)
       write_array(g.get(), field->dataset, f.*field->data, field->width);
+    write_array(g.get(), "particle_node", f.particle_node, 1);
+    write_array(g.get(), "particle_radius", f.particle_radius, 1);
+    write_array(g.get(), "particle_rotation", f.particle_rotation, 1);
+    write_array(g.get(), "particle_spin", f.particle_spin, 1);
+    write_array(g.get(), "bond_nodes", f.bond_nodes, 2);
+    write_array(g.get(), "bond_state", f.bond_state, 1);
+    write_array(g.get(), "bond_normal_force", f.bond_normal_force, 1);
     g.reset();
     frame_info.push_back(std::move(info));
     flush();
@@ -500,42 +553,103 @@ struct OutputFile::Impl {
     x << "        </Attribute>\n";
   }
 
+  // One uniform grid: frame k's mesh (quadrilaterals), discs (one vertex cell per disc) or
+  // bonds (two-node polylines), all over the frame's node positions.
+  void xdmf_grid(std::ostream& x, std::size_t k, GridKind kind) const {
+    const FrameInfo& fi = frame_info[k];
+    const std::string n = std::to_string(fi.nodes), m = std::to_string(fi.elements),
+                      p = std::to_string(fi.particles), b = std::to_string(fi.bonds);
+    x << "      <Grid Name=\"" << kGridNames[static_cast<int>(kind)] << "_" << k
+      << "\" GridType=\"Uniform\">\n"
+      << "        <Time Value=\"" << fi.time << "\"/>\n";
+    switch (kind) {
+      case GridKind::mesh:
+        x << "        <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << m << "\">\n";
+        data_item<int>(x, k, "element_nodes", m + " 4");
+        break;
+      case GridKind::discs:
+        x << "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << p
+          << "\" NodesPerElement=\"1\">\n";
+        data_item<int>(x, k, "particle_node", p);
+        break;
+      case GridKind::bonds:
+        x << "        <Topology TopologyType=\"Polyline\" NumberOfElements=\"" << b
+          << "\" NodesPerElement=\"2\">\n";
+        data_item<int>(x, k, "bond_nodes", b + " 2");
+        break;
+    }
+    x << "        </Topology>\n"
+      << "        <Geometry GeometryType=\"XY\">\n";
+    data_item<double>(x, k, "node_position", n + " 2");
+    x << "        </Geometry>\n";
+    switch (kind) {
+      case GridKind::mesh:
+        xdmf_attribute<double>(x, k, "node_velocity", "Vector", "Node", n + " 2");
+        xdmf_attribute<double>(x, k, "node_displacement", "Vector", "Node", n + " 2");
+        xdmf_attribute<int>(x, k, "element_id", "Scalar", "Cell", m);
+        xdmf_attribute<int>(x, k, "element_body", "Scalar", "Cell", m);
+        for (const ElementField* field : fi.fields) {
+          const bool scalar = field->width == 1;
+          xdmf_attribute<double>(x, k, field->dataset, scalar ? "Scalar" : "Matrix", "Cell",
+                                 scalar ? m : m + " " + std::to_string(field->width));
+        }
+        break;
+      case GridKind::discs:
+        xdmf_attribute<double>(x, k, "node_velocity", "Vector", "Node", n + " 2");
+        xdmf_attribute<double>(x, k, "node_displacement", "Vector", "Node", n + " 2");
+        xdmf_attribute<double>(x, k, "particle_radius", "Scalar", "Cell", p);
+        xdmf_attribute<double>(x, k, "particle_rotation", "Scalar", "Cell", p);
+        xdmf_attribute<double>(x, k, "particle_spin", "Scalar", "Cell", p);
+        break;
+      case GridKind::bonds:
+        xdmf_attribute<int>(x, k, "bond_state", "Scalar", "Cell", b);
+        xdmf_attribute<double>(x, k, "bond_normal_force", "Scalar", "Cell", b);
+        break;
+    }
+    x << "      </Grid>\n";
+  }
+
+  static bool has(const FrameInfo& fi, GridKind kind) {
+    switch (kind) {
+      case GridKind::mesh:
+        return fi.nodes > 0 && fi.elements > 0;
+      case GridKind::discs:
+        return fi.particles > 0;
+      case GridKind::bonds:
+        return fi.bonds > 0;
+    }
+    return false;
+  }
+
   void write_xdmf() const {
     std::ostringstream x;
     x.precision(std::numeric_limits<double>::max_digits10);
     x << "<?xml version=\"1.0\" ?>\n"
       << "<Xdmf Version=\"3.0\">\n"
-      << "  <Domain>\n"
-      << "    <Grid Name=\"fracta\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    for (std::size_t k = 0; k < frame_info.size(); ++k) {
-      const FrameInfo& fi = frame_info[k];
-      if (fi.nodes == 0 || fi.elements == 0) {
-        x << "      <!-- frame " << k << " (time " << fi.time
-          << ") has no nodes or elements: not listed, empty grids break ParaView's readers -->\n";
+      << "  <Domain>\n";
+    for (GridKind kind : {GridKind::mesh, GridKind::discs, GridKind::bonds}) {
+      const char* name = kGridNames[static_cast<int>(kind)];
+      bool any = false;
+      for (const FrameInfo& fi : frame_info) any = any || has(fi, kind);
+      if (!any) {
+        x << "    <!-- " << name << ": empty in every frame, not listed (empty grids break "
+          << "ParaView's readers) -->\n";
         continue;
       }
-      const std::string n = std::to_string(fi.nodes), m = std::to_string(fi.elements);
-      x << "      <Grid Name=\"frame_" << k << "\" GridType=\"Uniform\">\n"
-        << "        <Time Value=\"" << fi.time << "\"/>\n"
-        << "        <Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"" << m << "\">\n";
-      data_item<int>(x, k, "element_nodes", m + " 4");
-      x << "        </Topology>\n"
-        << "        <Geometry GeometryType=\"XY\">\n";
-      data_item<double>(x, k, "node_position", n + " 2");
-      x << "        </Geometry>\n";
-      xdmf_attribute<double>(x, k, "node_velocity", "Vector", "Node", n + " 2");
-      xdmf_attribute<double>(x, k, "node_displacement", "Vector", "Node", n + " 2");
-      xdmf_attribute<int>(x, k, "element_id", "Scalar", "Cell", m);
-      xdmf_attribute<int>(x, k, "element_body", "Scalar", "Cell", m);
-      for (const ElementField* field : fi.fields) {
-        const bool scalar = field->width == 1;
-        xdmf_attribute<double>(x, k, field->dataset, scalar ? "Scalar" : "Matrix", "Cell",
-                               scalar ? m : m + " " + std::to_string(field->width));
+      x << "    <Grid Name=\"" << name
+        << "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+      for (std::size_t k = 0; k < frame_info.size(); ++k) {
+        const FrameInfo& fi = frame_info[k];
+        if (has(fi, kind))
+          xdmf_grid(x, k, kind);
+        else
+          x << "      <!-- frame " << k << " (time " << fi.time << ") has no "
+            << kEmptyWhat[static_cast<int>(kind)]
+            << ": not listed, empty grids break ParaView's readers -->\n";
       }
-      x << "      </Grid>\n";
+      x << "    </Grid>\n";
     }
-    x << "    </Grid>\n"
-      << "  </Domain>\n"
+    x << "  </Domain>\n"
       << "</Xdmf>\n";
 
     const std::string tmp = xdmf_path + ".tmp";

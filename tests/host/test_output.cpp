@@ -86,6 +86,32 @@ FrameData make_frame(int nx, int ny, double time, long step, std::vector<std::st
   return f;
 }
 
+// Appends a row of `count` discs (new nodes right of the mesh, 1 mm apart) to `f`, bonded in a
+// chain and to every second neighbour; bonds whose index is in `broken` are broken (state 2, no
+// force).
+void add_discs(FrameData& f, int count, const std::vector<int>& broken) {
+  const int first = static_cast<int>(f.node_position.size() / 2);
+  for (int i = 0; i < count; ++i) {
+    const int n = first + i;
+    f.node_position.insert(f.node_position.end(), {0.02 + 1e-3 * i, 5e-4 + 1e-8 * n});
+    f.node_displacement.insert(f.node_displacement.end(), {2e-7 * i, 1e-8 * n});
+    f.node_velocity.insert(f.node_velocity.end(), {-3.0 * i, 0.25 * n});
+    f.particle_node.push_back(n);
+    f.particle_radius.push_back(5e-4 + 1e-6 * i);
+    f.particle_rotation.push_back(0.01 * i - 0.02);
+    f.particle_spin.push_back(-150.0 * i);
+  }
+  for (int step : {1, 2})
+    for (int i = 0; i + step < count; ++i) {
+      const int k = static_cast<int>(f.bond_state.size());
+      bool is_broken = false;
+      for (int b : broken) is_broken = is_broken || b == k;
+      f.bond_nodes.insert(f.bond_nodes.end(), {first + i, first + i + step});
+      f.bond_state.push_back(is_broken ? 2 : 1);
+      f.bond_normal_force.push_back(is_broken ? 0.0 : 125.5 * k - 400.0);
+    }
+}
+
 RunInfo run_info(std::string case_text = "[simulation]\ntitle = \"output test\"\n") {
   RunInfo info;
   info.version = "0.1.0+test";
@@ -288,6 +314,43 @@ void expect_frame(hid_t file, int k, const FrameData& f) {
     expect_frame_array(file, path, *o.data,
                        o.width == 1 ? std::vector<hsize_t>{m} : std::vector<hsize_t>{m, o.width});
   }
+  // Discs and bonds: always written, zero-size in a pure-FE frame.
+  const hsize_t p = f.particle_node.size(), b = f.bond_nodes.size() / 2;
+  expect_frame_array(file, g + "/particle_node", f.particle_node, {p});
+  expect_frame_array(file, g + "/particle_radius", f.particle_radius, {p});
+  expect_frame_array(file, g + "/particle_rotation", f.particle_rotation, {p});
+  expect_frame_array(file, g + "/particle_spin", f.particle_spin, {p});
+  expect_frame_array(file, g + "/bond_nodes", f.bond_nodes, {b, 2});
+  expect_frame_array(file, g + "/bond_state", f.bond_state, {b});
+  expect_frame_array(file, g + "/bond_normal_force", f.bond_normal_force, {b});
+  for (const char* name : {"particle_node", "bond_nodes", "bond_state"})
+    EXPECT_EQ(type_of(file, g + "/" + name), std::make_pair(H5T_INTEGER, size_t{4})) << name;
+  for (const char* name :
+       {"particle_radius", "particle_rotation", "particle_spin", "bond_normal_force"})
+    EXPECT_EQ(type_of(file, g + "/" + name), std::make_pair(H5T_FLOAT, size_t{8})) << name;
+}
+
+// Number of matches of `pattern` in `text`.
+int count_matches(const std::string& text, const std::string& pattern) {
+  const std::regex re(pattern);
+  return static_cast<int>(
+      std::distance(std::sregex_iterator(text.begin(), text.end(), re), std::sregex_iterator()));
+}
+
+// The <Time> values of the temporal collection `name` of the .xdmf.
+std::vector<double> collection_times(const std::string& text, const std::string& name) {
+  const std::string open = "<Grid Name=\"" + name + "\" GridType=\"Collection\"";
+  const std::size_t begin = text.find(open);
+  if (begin == std::string::npos) return {};
+  // Collections hold uniform grids only, so the first "    </Grid>" (4 spaces) closes it.
+  const std::size_t end = text.find("\n    </Grid>", begin);
+  const std::string body = text.substr(begin, end - begin);
+  const std::regex time_re(R"re(<Time Value="([^"]+)")re");
+  std::vector<double> times;
+  for (auto it = std::sregex_iterator(body.begin(), body.end(), time_re);
+       it != std::sregex_iterator(); ++it)
+    times.push_back(std::stod((*it)[1]));
+  return times;
 }
 
 // History rows [0, rows) as written by history_row().
@@ -400,6 +463,72 @@ TEST_F(OutputFileTest, WritesEveryDatasetOfTheContract) {
   for (const char* name : {"/frames/0/element_stress", "/frames/2/element_von_mises",
                            "/frames/1/node_velocity", "/frames/2/element_body"})
     EXPECT_NE(text.find(std::string("out.h5:") + name), std::string::npos) << name;
+  // A pure-FE run: one temporal collection (the mesh), no disc or bond grid.
+  EXPECT_EQ(count_matches(text, R"(CollectionType="Temporal")"), 1);
+  EXPECT_EQ(collection_times(text, "mesh"), (std::vector<double>{1e-6, 2e-6, 2.5e-6}));
+  for (const char* absent :
+       {"Polyvertex", "Polyline", "particle_", "bond_", R"(Name="discs")", R"(Name="bonds")"})
+    EXPECT_EQ(text.find(absent), std::string::npos) << absent;
+}
+
+// Frames with discs and bonds: FE mesh + discs, then some bonds broken, then every element
+// converted (discs only), then a frame with neither (nothing to show).
+TEST_F(OutputFileTest, WritesDiscsAndBonds) {
+  std::vector<FrameData> frames;
+  frames.push_back(make_frame(3, 2, 1e-6, 100, {"stress"}));  // pure FE
+  frames.push_back(make_frame(2, 2, 2e-6, 200, {"von_mises"}));
+  add_discs(frames.back(), 5, {});  // 4 + 3 bonds, all active
+  frames.push_back(make_frame(2, 1, 3e-6, 300, {"von_mises", "plastic_strain"}));
+  add_discs(frames.back(), 6, {0, 3, 7});  // 5 + 4 bonds, 3 broken
+  frames.push_back(make_frame(0, 0, 4e-6, 400, {"stress"}));
+  frames.back().node_position.clear();  // no FE node at all: only the discs' nodes
+  frames.back().node_displacement.clear();
+  frames.back().node_velocity.clear();
+  add_discs(frames.back(), 4, {0, 1, 2, 3, 4});  // every bond broken
+  frames.push_back(make_frame(1, 1, 5e-6, 500, {}));
+  frames.back().element_nodes.clear();  // nodes, but no element, disc or bond
+  frames.back().element_id.clear();
+  frames.back().element_body.clear();
+  {
+    OutputFile out(h5_, run_info());
+    for (const FrameData& f : frames) out.write_frame(f);
+    out.finish(500, 0.5, "completed");
+  }
+  H5Id file{open_file(), H5Fclose};
+  ASSERT_GE(file.id, 0);
+  for (int k = 0; k < 5; ++k) expect_frame(file.id, k, frames[k]);
+  EXPECT_EQ(dims_of(file.id, "/frames/0/particle_node"), (std::vector<hsize_t>{0}));
+  EXPECT_EQ(dims_of(file.id, "/frames/0/bond_nodes"), (std::vector<hsize_t>{0, 2}));
+  EXPECT_EQ(dims_of(file.id, "/frames/2/bond_nodes"), (std::vector<hsize_t>{9, 2}));
+  EXPECT_EQ(read<int>(file.id, "/frames/2/bond_state"),
+            (std::vector<int>{2, 1, 1, 2, 1, 1, 1, 2, 1}));
+  EXPECT_EQ(read<int>(file.id, "/frames/3/particle_node"), (std::vector<int>{0, 1, 2, 3}));
+
+  // The .xdmf: one temporal collection per kind of grid, each listing the frames that have it.
+  const std::string text = slurp(xdmf_);
+  EXPECT_EQ(count_matches(text, R"(CollectionType="Temporal")"), 3);
+  EXPECT_EQ(collection_times(text, "mesh"), (std::vector<double>{1e-6, 2e-6, 3e-6}));
+  EXPECT_EQ(collection_times(text, "discs"), (std::vector<double>{2e-6, 3e-6, 4e-6}));
+  EXPECT_EQ(collection_times(text, "bonds"), (std::vector<double>{2e-6, 3e-6, 4e-6}));
+  EXPECT_EQ(count_matches(text, R"(TopologyType="Polyvertex" NumberOfElements="[0-9]+" )"
+                                R"(NodesPerElement="1")"),
+            3);
+  EXPECT_EQ(count_matches(text, R"(TopologyType="Polyline" NumberOfElements="[0-9]+" )"
+                                R"(NodesPerElement="2")"),
+            3);
+  EXPECT_NE(text.find(R"(NumberOfElements="9" NodesPerElement="2")"), std::string::npos);
+  for (const char* name :
+       {"particle_radius", "particle_rotation", "particle_spin", "bond_state", "bond_normal_force"})
+    EXPECT_EQ(count_matches(text, std::string("<Attribute Name=\"") + name +
+                                      R"(" AttributeType="Scalar" Center="Cell">)"),
+              3)
+        << name;
+  EXPECT_EQ(text.find("/frames/4/"), std::string::npos);  // nothing to show in frame 4
+  EXPECT_EQ(text.find("out.h5:/frames/0/particle"), std::string::npos);
+  EXPECT_EQ(text.find("out.h5:/frames/3/element"), std::string::npos);
+  // Mesh grids: 6 references each + fields (1 stress, 1 von Mises, 2); disc grids 7, bond
+  // grids 4.
+  EXPECT_EQ(check_xdmf_references(file.id), 3 * 6 + 1 + 1 + 2 + 3 * 7 + 3 * 4);
 }
 
 TEST_F(OutputFileTest, EmptyFramesWriteZeroSizeDatasets) {
@@ -458,6 +587,27 @@ TEST_F(OutputFileTest, ErrorsNameThePathAndWhatFailed) {
   FrameData f = make_frame(2, 1, 0.0, 0, {"stress"});
   f.element_stress.pop_back();
   EXPECT_THROW(out.write_frame(f), std::runtime_error);
+  FrameData d = make_frame(2, 1, 0.0, 0, {});
+  add_discs(d, 3, {});
+  d.particle_spin.pop_back();
+  EXPECT_THROW(out.write_frame(d), std::runtime_error);
+  d = make_frame(2, 1, 0.0, 0, {});
+  add_discs(d, 3, {});
+  d.bond_normal_force.push_back(1.0);
+  EXPECT_THROW(out.write_frame(d), std::runtime_error);
+  d = make_frame(2, 1, 0.0, 0, {});
+  add_discs(d, 3, {});
+  d.bond_nodes.back() = static_cast<int>(d.node_position.size() / 2);  // one past the last node
+  try {
+    out.write_frame(d);
+    ADD_FAILURE() << "wrote a bond to a missing node";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("bond_nodes"), std::string::npos) << e.what();
+  }
+  d = make_frame(2, 1, 0.0, 0, {});
+  add_discs(d, 3, {});
+  d.particle_node[0] = -1;
+  EXPECT_THROW(out.write_frame(d), std::runtime_error);
   EXPECT_EQ(out.frames_written(), 0);
   out.finish(0, 0.0, "failed: test");
   EXPECT_THROW(out.append_history(history_row(0)), std::runtime_error);
