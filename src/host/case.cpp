@@ -593,7 +593,8 @@ SimulationParams read_simulation(const Reader& r) {
   r.allow_only({"title", "formulation", "thickness", "end_time", "dt_safety", "dt",
                 "allow_unstable_dt", "output_interval", "history_interval", "hourglass",
                 "hourglass_coefficient", "integration", "bulk_viscosity_linear",
-                "bulk_viscosity_quadratic", "energy_error_limit"});
+                "bulk_viscosity_quadratic", "energy_error_limit", "conversion_interval",
+                "conversion_on_tension"});
   SimulationParams s;
   s.pos = r.pos();
   if (r.has("dt")) s.dt_pos = r.pos("dt");
@@ -617,6 +618,11 @@ SimulationParams read_simulation(const Reader& r) {
   s.bulk_viscosity_quadratic =
       r.number("bulk_viscosity_quadratic", Range::ge(0), s.bulk_viscosity_quadratic);
   s.energy_error_limit = r.number("energy_error_limit", Range::gt(0), s.energy_error_limit);
+  s.conversion_interval =
+      static_cast<int>(r.number("conversion_interval", Range::ge(1), s.conversion_interval));
+  if (s.conversion_interval != r.number("conversion_interval", Range::ge(1), s.conversion_interval))
+    r.fail("conversion_interval", "must be a whole number of steps");
+  s.conversion_on_tension = r.boolean("conversion_on_tension", s.conversion_on_tension);
   return s;
 }
 

@@ -146,9 +146,11 @@ struct SimulationParams {
   Integration integration = Integration::reduced;
   double bulk_viscosity_linear = 0.06;
   double bulk_viscosity_quadratic = 1.5;
-  double energy_error_limit = 0.5;  // relative error above which the run stops (exit 3)
-  SourcePos pos;                    // the [simulation] table
-  SourcePos dt_pos;                 // the `dt` key, when given
+  double energy_error_limit = 0.5;     // relative error above which the run stops (exit 3)
+  int conversion_interval = 1;         // steps between conversion checks of adaptive bodies
+  bool conversion_on_tension = false;  // also convert elements at the tension cut-off
+  SourcePos pos;                       // the [simulation] table
+  SourcePos dt_pos;                    // the `dt` key, when given
 };
 
 struct OutputParams {

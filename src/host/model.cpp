@@ -1,5 +1,6 @@
 #include "host/model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -250,8 +251,18 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   bonds.cells = to_device_rows("bond_cells", bond_cells);
   model.elements.cell_stress = View<double* [3]>("fracta::cell_stress", ne);
   model.elements.cell_intact = View<int*>("fracta::cell_intact", ne);
-  model.converted = to_device_1d<int>("converted_cells", converted);
+  model.elements.cell_strain_offset = View<double* [3]>("fracta::cell_strain_offset", ne);
+  // Capacity for every cell: adaptive conversion appends to the list.
+  std::vector<int> converted_all(converted);
+  converted_all.resize(ne, -1);
+  model.converted = to_device_1d<int>("converted_cells", converted_all);
   model.converted_count = static_cast<int>(converted.size());
+  std::vector<int> adaptive(ne, 0);
+  for (int e = 0; e < ne; ++e) adaptive[e] = m.element_method[e] == BodyMethod::adaptive;
+  model.element_adaptive = to_device_1d<int>("element_adaptive", adaptive);
+  model.has_adaptive = std::count(adaptive.begin(), adaptive.end(), 1) > 0;
+  model.new_cells = View<int*>("fracta::new_cells", ne);
+  model.active_scratch = View<int*>("fracta::active_scratch", ne);
 
   // Per-material lattice stiffness and bond law.
   std::vector<LatticeStiffness> stiffness;
@@ -346,10 +357,11 @@ Model build_model(const Case& c) {
   // Adaptive conversion and rigid bodies are not built yet: refuse, never ignore.
   for (const Body& b : c.bodies) {
     auto refuse = [&](BodyMethod m, const SourcePos& pos, const std::string& key) {
-      if (m == BodyMethod::adaptive || m == BodyMethod::rigid)
-        throw InputError(pos.file, pos.line, key,
-                         std::string("method '") + to_string(m) +
-                             "' is not available in this version of fracta (only 'fe' and 'de')");
+      if (m == BodyMethod::rigid)
+        throw InputError(
+            pos.file, pos.line, key,
+            std::string("method '") + to_string(m) +
+                "' is not available in this version of fracta (only 'fe', 'de' and 'adaptive')");
     };
     refuse(b.method, b.pos, "body['" + b.name + "'].method");
     for (const Region& r : b.regions) refuse(r.method, r.pos, "body['" + b.name + "'].region");

@@ -42,6 +42,9 @@ struct Model {
   View<int* [6]> element_bonds;  // bond slots of each element: 4 edges, 2 diagonals (-1: none)
   View<int*> converted;          // the converted cells (elements), in conversion order
   int converted_count = 0;
+  View<int*> element_adaptive;  // 1 for elements of adaptive bodies and regions
+  bool has_adaptive = false;
+  View<int*> new_cells, active_scratch;       // conversion workspace (capacity: all elements)
   View<LatticeStiffness*> lattice_stiffness;  // per material
   View<BondLaw*> bond_laws;                   // per material
   // Disc contact (particles and FE boundary nodes); null when the scene has no discs.

@@ -22,6 +22,7 @@ class Simulation {
   double time() const { return time_; }
   double dt() const { return dt_; }
   long steps() const { return steps_; }
+  long conversions() const { return conversions_; }
   double stable_dt_bound() const { return dt_bound_; }  // before the safety factor (s)
 
   HistoryRecord history();  // energies, counts and conservation totals now
@@ -40,6 +41,8 @@ class Simulation {
   double next_dt() const;
   // Zeroed forces in, all internal forces out (FE, bonds); returns the stable bound (s).
   double evaluate_forces(double dt);
+  // Converts the adaptive elements that reached their conversion criterion (DESIGN.md 1.3).
+  void convert();
 
   Model model_;
   double time_ = 0.0, dt_ = 0.0, dt_bound_ = 0.0, dt_initial_ = 0.0;
@@ -47,7 +50,8 @@ class Simulation {
   double external_work_ = 0.0, initial_energy_ = 0.0;
   double bond_dt_bound_ = 1e300, fracture_energy_ = 0.0, energy_floor_ = 0.0;
   long broken_bonds_ = 0, touching_ = 0;
-  double contact_elastic_ = 0.0, contact_dissipated_ = 0.0;
+  double contact_elastic_ = 0.0, contact_dissipated_ = 0.0, conversion_energy_ = 0.0;
+  long conversions_ = 0, conversions_this_step_ = 0;
   std::string failure_;
   View<int*> probe_node_, probe_element_;
   View<double* [7]> probe_values_;
@@ -57,7 +61,9 @@ class Simulation {
     Elements elements;
     Bonds bonds;
     double time = 0, dt = 0, dt_bound = 0, external_work = 0, fracture_energy = 0;
-    double contact_dissipated = 0, contact_elastic = 0;
+    double contact_dissipated = 0, contact_elastic = 0, conversion_energy = 0;
+    int converted_count = 0;
+    long conversions = 0;
     long broken_bonds = 0, steps = -1;
     int active_elements = 0;
   } snapshot_;

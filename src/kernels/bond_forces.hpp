@@ -43,8 +43,9 @@ KOKKOS_INLINE_FUNCTION double bilinear_spring(double k, double u, double f_yield
 
 // Continuum stress of each converted cell from its 4 discs: deformation gradient F at the cell
 // centre (reference one-point gradients), Green-Lagrange strain E = (F^T F - I)/2 (rotation
-// invariant, so fragments may spin), and the lattice's own elastic law S = C : E (the C the
-// bonds reproduce). A cell with a broken bond is no longer a continuum: it is marked not intact.
+// invariant, so fragments may spin) less the cell's offset at conversion (its strain beyond the
+// elastic part then), and the lattice's own elastic law S = C : E (the C the bonds reproduce). A
+// cell with a broken bond is no longer a continuum: it is marked not intact.
 inline void compute_cell_stress(const View<int*>& cells, int count,
                                 const View<int* [6]>& element_bonds,
                                 const View<const LatticeStiffness*>& stiffness,
@@ -59,29 +60,11 @@ inline void compute_cell_stress(const View<int*>& cells, int count,
           if (b >= 0 && bonds.state(b) == kBondBroken) intact = 0;
         }
         elements.cell_intact(e) = intact;
-        double x0[4], y0[4], ux[4], uy[4];
-        for (int a = 0; a < 4; ++a) {
-          const int n = elements.nodes(e, a);
-          x0[a] = nodes.x0(n, 0);
-          y0[a] = nodes.x0(n, 1);
-          ux[a] = nodes.x(n, 0) - x0[a];
-          uy[a] = nodes.x(n, 1) - y0[a];
-        }
-        const double A =
-            0.5 * ((x0[2] - x0[0]) * (y0[3] - y0[1]) + (x0[1] - x0[3]) * (y0[2] - y0[0]));
-        double H[2][2] = {{0, 0}, {0, 0}};  // displacement gradient
-        for (int a = 0; a < 4; ++a) {
-          const double bx = (y0[(a + 1) % 4] - y0[(a + 3) % 4]) / (2.0 * A);
-          const double by = (x0[(a + 3) % 4] - x0[(a + 1) % 4]) / (2.0 * A);
-          H[0][0] += ux[a] * bx;
-          H[0][1] += ux[a] * by;
-          H[1][0] += uy[a] * bx;
-          H[1][1] += uy[a] * by;
-        }
-        // E = (H + H^T + H^T H) / 2
-        const double exx = H[0][0] + 0.5 * (H[0][0] * H[0][0] + H[1][0] * H[1][0]);
-        const double eyy = H[1][1] + 0.5 * (H[0][1] * H[0][1] + H[1][1] * H[1][1]);
-        const double exy = 0.5 * (H[0][1] + H[1][0] + H[0][0] * H[0][1] + H[1][0] * H[1][1]);
+        double green[3];
+        cell_green_lagrange(elements, nodes, e, green);
+        const double exx = green[0] - elements.cell_strain_offset(e, 0);
+        const double eyy = green[1] - elements.cell_strain_offset(e, 1);
+        const double exy = green[2] - elements.cell_strain_offset(e, 2);
         const LatticeStiffness s = stiffness(elements.material(e));
         const double c = s.youngs_modulus_eff / (1.0 - s.poisson_ratio_eff * s.poisson_ratio_eff);
         elements.cell_stress(e, 0) = c * (exx + s.poisson_ratio_eff * eyy);

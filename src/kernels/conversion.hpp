@@ -3,6 +3,8 @@
 // edge is shared by 2 elements) and k2 to each of its 2 diagonals. A `de` body is a set of
 // elements converted at time 0.
 #pragma once
+#include <utility>
+
 #include "kernels/compat.hpp"
 #include "kernels/state.hpp"
 
@@ -31,6 +33,34 @@ KOKKOS_INLINE_FUNCTION LatticeStiffness lattice_stiffness(double E, double nu, b
   return s;
 }
 
+// Green-Lagrange strain (xx, yy, xy tensor components) of cell e from its 4 corner nodes at the
+// cell centre, with the reference one-point gradients: rotation invariant.
+KOKKOS_INLINE_FUNCTION void cell_green_lagrange(const Elements& el, const Nodes& nodes, int e,
+                                                double strain[3]) {
+  double x0[4], y0[4], ux[4], uy[4];
+  for (int a = 0; a < 4; ++a) {
+    const int n = el.nodes(e, a);
+    x0[a] = nodes.x0(n, 0);
+    y0[a] = nodes.x0(n, 1);
+    ux[a] = nodes.x(n, 0) - x0[a];
+    uy[a] = nodes.x(n, 1) - y0[a];
+  }
+  const double A = 0.5 * ((x0[2] - x0[0]) * (y0[3] - y0[1]) + (x0[1] - x0[3]) * (y0[2] - y0[0]));
+  double h00 = 0, h01 = 0, h10 = 0, h11 = 0;  // displacement gradient
+  for (int a = 0; a < 4; ++a) {
+    const double bx = (y0[(a + 1) % 4] - y0[(a + 3) % 4]) / (2.0 * A);
+    const double by = (x0[(a + 3) % 4] - x0[(a + 1) % 4]) / (2.0 * A);
+    h00 += ux[a] * bx;
+    h01 += ux[a] * by;
+    h10 += uy[a] * bx;
+    h11 += uy[a] * by;
+  }
+  // E = (H + H^T + H^T H) / 2
+  strain[0] = h00 + 0.5 * (h00 * h00 + h10 * h10);
+  strain[1] = h11 + 0.5 * (h01 * h01 + h11 * h11);
+  strain[2] = 0.5 * (h01 + h10 + h00 * h01 + h10 * h11);
+}
+
 // Activates the bond slots of the elements listed in `converted` and makes their nodes discs.
 // `element_bonds(e, 0..3)` are the edge slots, `(e, 4..5)` the diagonal slots.
 inline void activate_element_bonds(const View<int*>& converted, int count,
@@ -46,7 +76,7 @@ inline void activate_element_bonds(const View<int*>& converted, int count,
         const LatticeStiffness s = stiffness(elements.material(e));
         for (int a = 0; a < 6; ++a) {
           const int b = element_bonds(e, a);
-          if (b < 0) continue;
+          if (b < 0 || bonds.state(b) == kBondBroken) continue;  // a crack stays a crack
           Kokkos::atomic_add(&bonds.kn(b), a < 4 ? 0.5 * s.k1 : s.k2);
           if (a < 4) Kokkos::atomic_add(&bonds.ks(b), 0.5 * s.ks);
           bonds.material(b) = elements.material(e);
@@ -63,6 +93,170 @@ inline void activate_element_bonds(const View<int*>& converted, int count,
         if (bonds.state(b) != kBondActive) return;
         bonds.area(b) =
             bonds.kn(b) * bonds.length0(b) / stiffness(bonds.material(b)).youngs_modulus_eff;
+      });
+}
+
+}  // namespace fracta
+
+namespace fracta {
+
+// Adaptive conversion (DESIGN.md 1.3; paper Sec. 3.2, Eq. 14) as a stream compaction: flag the
+// active elements that reached their material's conversion strain (max over quadrature points;
+// optionally also the tension cut-off), then an exclusive parallel_scan gives every element its
+// slot in the new active list or in the converted list, and a scatter writes both. Deterministic:
+// the order of both lists follows the old active list. Returns the number converted; the new
+// cells are in new_cells[0, n).
+inline int compact_converted(Elements& el, const View<const int*>& adaptive,
+                             const View<const MaterialLaw*>& materials, bool on_tension,
+                             const View<int*>& new_cells, View<int*>& active_scratch) {
+  const int n_active = el.active_count;
+  if (n_active == 0) return 0;
+  const auto active = el.active;
+  const auto epeq = el.epeq;
+  const auto stress = el.stress;
+  const auto material = el.material;
+  const int qp = el.qp_per_element;
+  View<int*> flag("fracta::conversion_flag", n_active);
+  Kokkos::parallel_for(
+      "fracta::conversion_flag", Kokkos::RangePolicy<ExecSpace>(0, n_active),
+      KOKKOS_LAMBDA(const int i) {
+        const int e = active(i);
+        if (!adaptive(e)) return;
+        const MaterialLaw m = materials(material(e));
+        double ep = 0.0, s1 = -1e300;
+        for (int g = 0; g < qp; ++g) {
+          const int q = e * qp + g;
+          ep = max_(ep, epeq(q));
+          const double c = 0.5 * (stress(q, 0) + stress(q, 1));
+          const double r =
+              sqrt_(0.25 * (stress(q, 0) - stress(q, 1)) * (stress(q, 0) - stress(q, 1)) +
+                    stress(q, 3) * stress(q, 3));
+          s1 = max_(s1, c + r);
+        }
+        const bool strain = m.conversion_strain > 0.0 && ep >= m.conversion_strain;
+        const bool tension =
+            on_tension && m.tensile_strength > 0.0 && s1 >= m.tensile_strength * (1.0 - 1e-9);
+        flag(i) = (strain || tension) ? 1 : 0;
+      });
+  int converted = 0;
+  View<int*> position("fracta::conversion_position", n_active);
+  Kokkos::parallel_scan(
+      "fracta::conversion_scan", Kokkos::RangePolicy<ExecSpace>(0, n_active),
+      KOKKOS_LAMBDA(const int i, int& partial, const bool final) {
+        if (final) position(i) = partial;
+        partial += flag(i);
+      },
+      converted);
+  if (converted == 0) return 0;
+  const auto out_active = active_scratch;
+  const auto alive = el.alive;
+  Kokkos::parallel_for(
+      "fracta::conversion_scatter", Kokkos::RangePolicy<ExecSpace>(0, n_active),
+      KOKKOS_LAMBDA(const int i) {
+        const int e = active(i);
+        if (flag(i)) {
+          new_cells(position(i)) = e;
+          alive(e) = 0;
+        } else {
+          out_active(i - position(i)) = e;
+        }
+      });
+  // The compacted list becomes the active list; the old one is the next scratch.
+  std::swap(el.active, active_scratch);
+  el.active_count = n_active - converted;
+  return converted;
+}
+
+// Initial bond forces of newly converted cells (DESIGN.md 1.3): the forces the lattice carries
+// under the element's elastic strain eps = C^-1 sigma, normal kn_e L n.eps.n and shear
+// ks_e L t.eps.n per contribution, so the conversion itself releases no stress wave. Also starts
+// the spin of discs that were not particles at the element's rotation rate, and returns (via
+// the reduction) the elastic energy the elements held (J). Runs before activate_element_bonds
+// adds the stiffness; finish_converted_bonds then re-bases the normal springs.
+inline double prestress_converted_bonds(const View<int*>& cells, int count,
+                                        const View<int* [6]>& element_bonds,
+                                        const View<const LatticeStiffness*>& stiffness,
+                                        const Elements& el, const Nodes& nodes,
+                                        const Bonds& bonds) {
+  double element_energy = 0.0;
+  if (count == 0) return element_energy;
+  const int qp = el.qp_per_element;
+  Kokkos::parallel_reduce(
+      "fracta::prestress_converted_bonds", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(const int k, double& energy) {
+        const int e = cells(k);
+        energy += el.strain_work(e) - el.plastic_work(e);
+        const LatticeStiffness s = stiffness(el.material(e));
+        double sig[3] = {0, 0, 0};  // xx, yy, xy averaged over the quadrature points
+        for (int g = 0; g < qp; ++g) {
+          sig[0] += el.stress(e * qp + g, 0) / qp;
+          sig[1] += el.stress(e * qp + g, 1) / qp;
+          sig[2] += el.stress(e * qp + g, 3) / qp;
+        }
+        // In-plane compliance of the formulation (plane strain through E*, nu*).
+        const double E = s.youngs_modulus_eff, nu = s.poisson_ratio_eff;
+        const double exx = (sig[0] - nu * sig[1]) / E, eyy = (sig[1] - nu * sig[0]) / E;
+        const double exy = sig[2] * (1.0 + nu) / E;
+        // The cell's strain beyond its elastic part (plastic flow, and the FE kinematics'
+        // difference from Green-Lagrange) is an offset, so the cell stress starts at sigma.
+        double green[3];
+        cell_green_lagrange(el, nodes, e, green);
+        el.cell_strain_offset(e, 0) = green[0] - exx;
+        el.cell_strain_offset(e, 1) = green[1] - eyy;
+        el.cell_strain_offset(e, 2) = green[2] - exy;
+        for (int a = 0; a < 6; ++a) {
+          const int b = element_bonds(e, a);
+          if (b < 0 || bonds.state(b) == kBondBroken) continue;
+          const int i = bonds.nodes(b, 0), j = bonds.nodes(b, 1);
+          const double dx = nodes.x(j, 0) - nodes.x(i, 0), dy = nodes.x(j, 1) - nodes.x(i, 1);
+          const double L = sqrt_(dx * dx + dy * dy), nx = dx / L, ny = dy / L;
+          const double en = exx * nx * nx + eyy * ny * ny + 2.0 * exy * nx * ny;
+          const double et = -(exx * nx + exy * ny) * ny + (exy * nx + eyy * ny) * nx;
+          const double kn_e = a < 4 ? 0.5 * s.k1 : s.k2, ks_e = a < 4 ? 0.5 * s.ks : 0.0;
+          Kokkos::atomic_add(&bonds.fn(b), kn_e * L * en);
+          if (ks_e > 0.0) Kokkos::atomic_add(&bonds.fs(b), ks_e * L * et);
+        }
+        // Spin of new discs: the element's rotation rate w = (dvy/dx - dvx/dy) / 2.
+        double x[4], y[4];
+        for (int a = 0; a < 4; ++a) {
+          x[a] = nodes.x(el.nodes(e, a), 0);
+          y[a] = nodes.x(el.nodes(e, a), 1);
+        }
+        const double A = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
+        double w = 0.0;
+        for (int a = 0; a < 4; ++a) {
+          const double bx = (y[(a + 1) % 4] - y[(a + 3) % 4]) / (2.0 * A);
+          const double by = (x[(a + 3) % 4] - x[(a + 1) % 4]) / (2.0 * A);
+          const int n = el.nodes(e, a);
+          w += 0.5 * (nodes.v(n, 1) * bx - nodes.v(n, 0) * by);
+        }
+        for (int a = 0; a < 4; ++a) {
+          const int n = el.nodes(e, a);
+          if (!nodes.particle(n)) nodes.spin(n) = w;
+        }
+      },
+      element_energy);
+  return element_energy;
+}
+
+// After the stiffness of new cells was added: re-bases each touched normal spring so its
+// total-form force kn (L - L0 - u_p) equals the force it now carries.
+inline void finish_converted_bonds(const View<int*>& cells, int count,
+                                   const View<int* [6]>& element_bonds, const Nodes& nodes,
+                                   const Bonds& bonds) {
+  if (count == 0) return;
+  Kokkos::parallel_for(
+      "fracta::finish_converted_bonds", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(const int k) {
+        const int e = cells(k);
+        for (int a = 0; a < 6; ++a) {
+          const int b = element_bonds(e, a);
+          if (b < 0 || bonds.state(b) != kBondActive || !(bonds.kn(b) > 0.0)) continue;
+          const int i = bonds.nodes(b, 0), j = bonds.nodes(b, 1);
+          const double dx = nodes.x(j, 0) - nodes.x(i, 0), dy = nodes.x(j, 1) - nodes.x(i, 1);
+          const double L = sqrt_(dx * dx + dy * dy);
+          bonds.plastic_n(b) = L - bonds.length0(b) - bonds.fn(b) / bonds.kn(b);
+        }
       });
 }
 

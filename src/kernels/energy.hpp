@@ -88,14 +88,15 @@ struct ElementTotals {
 
 inline ElementTotals element_totals(const Elements& el) {
   Sums<4> s;
-  if (el.active_count == 0) return {};
+  if (el.count == 0) return {};
+  // Over every element: a converted one keeps its dissipation in the balance; its recoverable
+  // energy went to the bonds (and the difference to the conversion term).
   Kokkos::parallel_reduce(
-      "fracta::element_totals", Kokkos::RangePolicy<ExecSpace>(0, el.active_count),
-      KOKKOS_LAMBDA(const int i, Sums<4>& acc) {
-        const int e = el.active(i);
+      "fracta::element_totals", Kokkos::RangePolicy<ExecSpace>(0, el.count),
+      KOKKOS_LAMBDA(const int e, Sums<4>& acc) {
         // Recoverable energy = stress work - plastic dissipation, both integrated per step
         // (a state function 1/2 s:C^-1:s V would drift against the nodal work as V changes).
-        acc.v[0] += el.strain_work(e) - el.plastic_work(e);
+        if (el.alive(e)) acc.v[0] += el.strain_work(e) - el.plastic_work(e);
         acc.v[1] += el.plastic_work(e);
         acc.v[2] += el.hourglass_work(e);
         acc.v[3] += el.viscous_work(e);

@@ -98,9 +98,10 @@ struct Elements {
   View<int*> active;  // active element indices, increasing
   View<int*> alive;   // 1 while the element is an active FE element (per mesh element)
   // Converted cells (the lattice): continuum stress from the discs' motion, for bond failure.
-  View<double* [3]> cell_stress;  // Pa: xx, yy, xy (reference frame)
-  View<int*> cell_intact;         // 1 while none of the cell's bonds is broken
-  int count = 0;                  // all elements of the mesh
+  View<double* [3]> cell_stress;         // Pa: xx, yy, xy (reference frame)
+  View<int*> cell_intact;                // 1 while none of the cell's bonds is broken
+  View<double* [3]> cell_strain_offset;  // strain beyond the elastic part at conversion
+  int count = 0;                         // all elements of the mesh
   int active_count = 0;
   int qp_per_element = 1;  // 1 (reduced + hourglass control) or 4 (2x2 Gauss)
   // Per quadrature point.

@@ -1,0 +1,193 @@
+// Adaptive FE-to-DE conversion (DESIGN.md 1.3): the compaction, and what a conversion may and
+// may not change.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "host/simulation.hpp"
+#include "kernels/conversion.hpp"
+#include "test_util.hpp"
+
+namespace fracta {
+namespace {
+
+Case adaptive_case(int nx, int ny, double h) {
+  Case c = test::rectangle_case(nx, ny, h, 200e9, 0.3, 7800.0, Formulation::plane_stress);
+  c.bodies[0].method = BodyMethod::adaptive;
+  c.materials[0].conversion_strain = 0.5;
+  c.sim.end_time = 1.0;
+  return c;
+}
+
+// Marks elements for conversion by giving them the conversion strain.
+void mark(Simulation& sim, const std::vector<int>& elements) {
+  auto ep = Kokkos::create_mirror_view_and_copy(HostSpace(), sim.model().elements.epeq);
+  for (int e : elements) ep(e) = 0.5;
+  Kokkos::deep_copy(sim.model().elements.epeq, ep);
+}
+
+std::vector<int> active_host(const Elements& el) {
+  auto a = Kokkos::create_mirror_view_and_copy(HostSpace(), el.active);
+  return std::vector<int>(a.data(), a.data() + el.active_count);
+}
+
+// Compaction edge cases (Cabana tstRemove style): nothing, every other, everything, and an empty
+// active list; the survivors keep their order and the converted list follows the old order.
+TEST(Conversion, CompactionEdgeCases) {
+  for (int pattern = 0; pattern < 4; ++pattern) {
+    Simulation sim(adaptive_case(5, 4, 1e-3));
+    Model& m = sim.model();
+    std::vector<int> marked, kept;
+    for (int e = 0; e < 20; ++e) {
+      const bool convert = pattern == 1 ? e % 2 == 0 : pattern >= 2;
+      (convert ? marked : kept).push_back(e);
+    }
+    mark(sim, marked);
+    if (pattern == 3) {  // empty list: convert everything first, then compact again
+      compact_converted(m.elements, m.element_adaptive, m.materials, false, m.new_cells,
+                        m.active_scratch);
+    }
+    const int n = compact_converted(m.elements, m.element_adaptive, m.materials, false, m.new_cells,
+                                    m.active_scratch);
+    EXPECT_EQ(n, pattern == 3 ? 0 : static_cast<int>(marked.size()));
+    EXPECT_EQ(active_host(m.elements), pattern == 3 ? std::vector<int>{} : kept);
+    auto cells = Kokkos::create_mirror_view_and_copy(HostSpace(), m.new_cells);
+    if (pattern != 3)
+      for (int k = 0; k < n; ++k) EXPECT_EQ(cells(k), marked[k]);
+  }
+}
+
+// Conversion during a run changes neither the total mass nor the linear momentum (the node
+// velocities are untouched): 1e-12 relative, i.e. round-off of the sums.
+TEST(Conversion, ConservesMassAndMomentum) {
+  Case c = adaptive_case(8, 6, 1e-3);
+  c.bodies[0].initial_velocity = {35.0, -12.0};
+  test::add_pressure(c, test::segment(0, 0, 0, 6e-3), {0.0, 1e-6, 1e-6}, {300e6, 300e6, 0.0});
+  Simulation sim(c);
+  for (int s = 0; s < 30; ++s) sim.step();  // a stressed, moving body (load is off by now)
+  const HistoryRecord before = sim.history();
+  mark(sim, {3, 4, 11, 12, 19, 20, 27, 28});
+  sim.step();
+  EXPECT_EQ(sim.conversions(), 8);
+  const HistoryRecord after = sim.history();
+  EXPECT_NEAR(after.mass, before.mass, 1e-12 * before.mass);
+  EXPECT_NEAR(after.momentum_x, before.momentum_x, 1e-12 * std::fabs(before.momentum_x));
+  EXPECT_NEAR(after.momentum_y, before.momentum_y, 1e-12 * std::fabs(before.momentum_y));
+  EXPECT_EQ(after.count.elements, 48 - 8);
+  EXPECT_GT(after.count.bonds, 0);
+}
+
+// An element converted in a stress-free state changes nothing: no force, no motion, no energy.
+TEST(Conversion, StressFreeConversionChangesNothing) {
+  Simulation sim(adaptive_case(4, 4, 1e-3));
+  mark(sim, {0, 5, 10, 15});
+  for (int s = 0; s < 50; ++s) sim.step();
+  EXPECT_EQ(sim.conversions(), 4);
+  const HistoryRecord h = sim.history();
+  EXPECT_EQ(h.energy.kinetic, 0.0);
+  EXPECT_EQ(h.energy.internal, 0.0);
+  EXPECT_EQ(h.energy.conversion, 0.0);
+}
+
+// A body in uniform static stress (strain imposed in one step, then held by tractions equal to
+// the stress on all four faces) converts its central elements: the bonds take over the stress
+// with their initial forces, so no wave is released. Probe velocities stay below 1% of the
+// particle velocity sigma / (rho c) that the same stress would drive as a wave.
+TEST(Conversion, PrestressedConversionReleasesNoWave) {
+  const double h = 1e-3, E = 200e9, nu = 0.3, rho = 7800;
+  const int n = 12;
+  const double L = n * h;
+  Case c = adaptive_case(n, n, h);
+  const double exx = 1e-4, eyy = -0.5e-4, exy = 0.3e-4;
+  const double k = E / (1 - nu * nu);
+  const double sxx = k * (exx + nu * eyy), syy = k * (eyy + nu * exx), sxy = E / (1 + nu) * exy;
+  c.sim.dt = 0.5 * Simulation(c).stable_dt_bound();
+  // Tractions sigma.n on each face, switched on at half the first step: the first half kick
+  // (forces at t = 0) sees none, the forces at t = dt balance the imposed stress.
+  using test::segment;
+  const std::vector<double> on{0.0, 0.5 * c.sim.dt, 0.5 * c.sim.dt};
+  auto face = [&](const Segment& s, double tx, double ty) {
+    const double mag = std::hypot(tx, ty);
+    test::add_traction(c, s, {tx / mag, ty / mag}, on, {0.0, 0.0, mag});
+  };
+  face(segment(L, 0, L, L), sxx, sxy);
+  face(segment(0, 0, 0, L), -sxx, -sxy);
+  face(segment(0, L, L, L), sxy, syy);
+  face(segment(0, 0, L, 0), -sxy, -syy);
+  Simulation sim(c);
+  Nodes& nodes = sim.model().nodes;
+  const double dt = sim.dt();
+  {
+    auto x0 = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.x0);
+    auto v = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.v);
+    for (int i = 0; i < nodes.count; ++i) {
+      v(i, 0) = (exx * x0(i, 0) + exy * x0(i, 1)) / dt;
+      v(i, 1) = (exy * x0(i, 0) + eyy * x0(i, 1)) / dt;
+    }
+    Kokkos::deep_copy(nodes.v, v);
+  }
+  sim.step();                       // imposes the strain; the FE stress is C : eps
+  Kokkos::deep_copy(nodes.v, 0.0);  // and now at rest, in equilibrium with the tractions
+  std::vector<int> centre;
+  for (int j = 3; j < 9; ++j)
+    for (int i = 3; i < 9; ++i) centre.push_back(j * n + i);
+  mark(sim, centre);
+  double vmax = 0;
+  for (int s = 0; s < 300; ++s) {
+    sim.step();
+    auto v = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.v);
+    for (int i = 0; i < nodes.count; ++i)
+      vmax = std::max({vmax, std::fabs(v(i, 0)), std::fabs(v(i, 1))});
+  }
+  EXPECT_EQ(sim.conversions(), 36);
+  const double v_wave = std::max(std::fabs(sxx), std::fabs(syy)) / (rho * std::sqrt(k / rho));
+  EXPECT_LT(vmax, 0.01 * v_wave);
+  RecordProperty("max_velocity_over_wave_velocity", std::to_string(vmax / v_wave));
+  // The bonds hold the element's energy: the conversion term is small against it.
+  const HistoryRecord hr = sim.history();
+  RecordProperty("conversion_energy_over_internal",
+                 std::to_string(hr.energy.conversion / hr.energy.internal));
+}
+
+}  // namespace
+}  // namespace fracta
+
+namespace fracta {
+namespace {
+
+// Everything converting: a Mohr-Coulomb block (plane strain, nu = 0.21) hit by a strong pulse
+// with a tiny conversion strain, so the yield front converts every element as it sweeps
+// through. The run must reach its end without NaN, leave no FE element, and close the energy
+// balance (plastic, conversion, fracture, contact terms included) within the 2%.
+TEST(Conversion, EverythingConvertsAndBalanceCloses) {
+  const double h = 1e-3;
+  const int nx = 16, ny = 8;
+  Case c = test::rectangle_case(nx, ny, h, 92e9, 0.21, 2400.0, Formulation::plane_strain);
+  c.bodies[0].method = BodyMethod::adaptive;
+  Material& m = c.materials[0];
+  m.model = MaterialModel::mohr_coulomb;
+  m.cohesion = 20e6;
+  m.friction_angle = 30.0 * M_PI / 180.0;
+  m.tensile_strength = 10e6;
+  m.conversion_strain = 1e-4;
+  test::add_pressure(c, test::segment(0, 0, 0, ny * h), {0.0, 4e-6, 4e-6}, {400e6, 400e6, 0.0});
+  c.sim.end_time = 30e-6;
+  Simulation sim(c);
+  double worst = 0;
+  while (sim.time() < c.sim.end_time * (1 - 1e-12) && !sim.failed()) {
+    sim.step();
+    worst = std::max(worst, sim.history().energy.error);
+  }
+  ASSERT_FALSE(sim.failed()) << sim.failure();
+  const HistoryRecord end = sim.history();
+  EXPECT_EQ(end.count.elements, 0);
+  EXPECT_EQ(sim.conversions(), nx * ny);
+  EXPECT_TRUE(std::isfinite(end.energy.kinetic));
+  EXPECT_LT(worst, 0.02);
+  RecordProperty("worst_energy_error", std::to_string(worst));
+  RecordProperty("conversion_energy_over_external",
+                 std::to_string(end.energy.conversion / end.energy.external));
+}
+
+}  // namespace
+}  // namespace fracta
