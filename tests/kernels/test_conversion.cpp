@@ -52,8 +52,9 @@ TEST(Conversion, CompactionEdgeCases) {
     EXPECT_EQ(n, pattern == 3 ? 0 : static_cast<int>(marked.size()));
     EXPECT_EQ(active_host(m.elements), pattern == 3 ? std::vector<int>{} : kept);
     auto cells = Kokkos::create_mirror_view_and_copy(HostSpace(), m.new_cells);
-    if (pattern != 3)
+    if (pattern != 3) {
       for (int k = 0; k < n; ++k) EXPECT_EQ(cells(k), marked[k]);
+    }
   }
 }
 
