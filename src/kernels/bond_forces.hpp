@@ -149,8 +149,17 @@ struct BondForces {
       // 1/2 f_old (f - f_old)/k: together 1/2 f_old f / k per spring. (Counting the trial
       // energy 1/2 f^2/k would over-count by 1/2 f du per break and unbalance the energy.)
       const double fn_old = bonds.fn(b), fs_old = bonds.fs(b);
-      const double energy =
+      double energy =
           (kn > 0.0 ? 0.5 * fn_old * fn / kn : 0.0) + (ks > 0.0 ? 0.5 * fs_old * fs / ks : 0.0);
+      // A bond that breaks while its discs overlap hands part of its energy to the contact
+      // that takes over at once (1/2 k_c delta^2 with the contact law's series stiffness):
+      // that part is not fracture energy, or the balance would count it twice.
+      const double overlap = ri + rj - length;
+      if (overlap > 0.0) {
+        const double kci = nodes.contact_stiffness(i), kcj = nodes.contact_stiffness(j);
+        const double kc = kci + kcj > 0.0 ? 2.0 * kci * kcj / (kci + kcj) : 0.0;
+        energy -= 0.5 * kc * overlap * overlap;
+      }
       bonds.state(b) = kBondBroken;
       bonds.fn(b) = 0.0;
       bonds.fs(b) = 0.0;
