@@ -369,6 +369,7 @@ void for_each_state_view(Nodes& n, Elements& e, Bonds& b, Nodes& sn, Elements& s
   f(n.spin, sn.spin);
   f(n.moment, sn.moment);
   f(n.contact_disc, sn.contact_disc);
+  f(n.radius, sn.radius);
   f(e.cell_strain_offset, se.cell_strain_offset);
   f(e.cell_stress, se.cell_stress);
   f(e.cell_intact, se.cell_intact);

@@ -240,7 +240,8 @@ inline double prestress_converted_bonds(const View<int*>& cells, int count,
 }
 
 // After the stiffness of new cells was added: re-bases each touched normal spring so its
-// total-form force kn (L - L0 - u_p) equals the force it now carries.
+// total-form force kn (L - L0 - u_p) equals the force it now carries, and shrinks the discs of
+// plastically shortened edges to their natural length.
 inline void finish_converted_bonds(const View<int*>& cells, int count,
                                    const View<int* [6]>& element_bonds, const Nodes& nodes,
                                    const Bonds& bonds) {
@@ -255,7 +256,16 @@ inline void finish_converted_bonds(const View<int*>& cells, int count,
           const int i = bonds.nodes(b, 0), j = bonds.nodes(b, 1);
           const double dx = nodes.x(j, 0) - nodes.x(i, 0), dy = nodes.x(j, 1) - nodes.x(i, 1);
           const double L = sqrt_(dx * dx + dy * dy);
-          bonds.plastic_n(b) = L - bonds.length0(b) - bonds.fn(b) / bonds.kn(b);
+          const double up = L - bonds.length0(b) - bonds.fn(b) / bonds.kn(b);
+          bonds.plastic_n(b) = up;
+          // Discs of a cell that flowed plastically before converting are closer than their
+          // radii: shrink them to the bond's natural length L0 + u_p, so that once the bond
+          // breaks the contact does not push them apart with energy the bond never held.
+          if (bonds.kind(b) == kBondEdge && up < 0.0) {
+            const double r = 0.5 * (bonds.length0(b) + up);
+            Kokkos::atomic_fetch_min(&nodes.radius(i), r);
+            Kokkos::atomic_fetch_min(&nodes.radius(j), r);
+          }
         }
       });
 }
