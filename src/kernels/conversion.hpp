@@ -252,20 +252,26 @@ inline void finish_converted_bonds(const View<int*>& cells, int count,
         const int e = cells(k);
         for (int a = 0; a < 6; ++a) {
           const int b = element_bonds(e, a);
-          if (b < 0 || bonds.state(b) != kBondActive || !(bonds.kn(b) > 0.0)) continue;
+          if (b < 0) continue;
           const int i = bonds.nodes(b, 0), j = bonds.nodes(b, 1);
           const double dx = nodes.x(j, 0) - nodes.x(i, 0), dy = nodes.x(j, 1) - nodes.x(i, 1);
           const double L = sqrt_(dx * dx + dy * dy);
+          if (bonds.state(b) != kBondActive || !(bonds.kn(b) > 0.0)) {
+            Kokkos::atomic_fetch_min(&nodes.radius(i), 0.5 * L);
+            Kokkos::atomic_fetch_min(&nodes.radius(j), 0.5 * L);
+            continue;
+          }
           const double up = L - bonds.length0(b) - bonds.fn(b) / bonds.kn(b);
           bonds.plastic_n(b) = up;
-          // Discs of a cell that flowed plastically before converting are closer than their
-          // radii: shrink them to the bond's natural length L0 + u_p, so that once the bond
-          // breaks the contact does not push them apart with energy the bond never held.
-          if (bonds.kind(b) == kBondEdge && up < 0.0) {
-            const double r = 0.5 * (bonds.length0(b) + up);
-            Kokkos::atomic_fetch_min(&nodes.radius(i), r);
-            Kokkos::atomic_fetch_min(&nodes.radius(j), r);
-          }
+          // Discs of a cell that flowed plastically (or was strongly sheared) before converting
+          // are closer than their radii. Shrink them to the current distance of every pair of
+          // the cell, and of an edge also to its natural length L0 + u_p: when a bond breaks,
+          // or a pair of a converted cell meets through an already broken slot, the contact
+          // must not push the discs apart with energy nobody put in.
+          double r = 0.5 * L;
+          if (bonds.kind(b) == kBondEdge) r = min_(r, 0.5 * (bonds.length0(b) + up));
+          Kokkos::atomic_fetch_min(&nodes.radius(i), r);
+          Kokkos::atomic_fetch_min(&nodes.radius(j), r);
         }
       });
 }

@@ -428,27 +428,5 @@ TEST(Fragments, MassDistribution) {
   EXPECT_THROW(mass_distribution(one, 0), std::invalid_argument);
 }
 
-// Cost per call on a 10^6-node lattice (1000 x 1000 nodes, ~4e6 bond slots): run with
-// --gtest_also_run_disabled_tests. Intact DE lattice, 10% random breaks, and intact FE.
-TEST(Fragments, DISABLED_MillionNodeLatticeTiming) {
-  Lattice l = make_lattice(999, 999, 3);
-  FragmentWorkspace ws(l.nodes.count);
-  const char* names[] = {"de_intact", "de_10pct_broken", "fe_intact"};
-  const double cases[][2] = {{1.0, 0.0}, {0.9, 0.0}, {0.0, 1.0}};
-  for (int c = 0; c < 3; ++c) {
-    randomise(l.elements, l.bonds, cases[c][0], cases[c][1], 11 + c);
-    FragmentStats s = fragment_statistics(l.nodes, l.elements, l.bonds, ws);  // warm-up
-    const int reps = 10;
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int r = 0; r < reps; ++r) s = fragment_statistics(l.nodes, l.elements, l.bonds, ws);
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() /
-        reps;
-    std::printf("%-16s nodes %d bonds %d elements %d: %ld fragments, %.2f ms per call\n", names[c],
-                l.nodes.count, l.bonds.count, l.elements.count, s.count, ms);
-    RecordProperty(std::string(names[c]) + "_ms", std::to_string(ms));
-  }
-}
-
 }  // namespace
 }  // namespace fracta
