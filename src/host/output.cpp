@@ -530,6 +530,9 @@ struct OutputFile::Impl {
     write_array(g.get(), "bond_nodes", f.bond_nodes, 2);
     write_array(g.get(), "bond_state", f.bond_state, 1);
     write_array(g.get(), "bond_normal_force", f.bond_normal_force, 1);
+    write_array(g.get(), "node_fragment", f.node_fragment, 1);
+    write_array(g.get(), "fragment_mass", f.fragment_mass, 1);
+    write_array(g.get(), "fragment_size", f.fragment_size, 1);
     g.reset();
     frame_info.push_back(std::move(info));
     flush();

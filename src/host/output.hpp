@@ -12,10 +12,10 @@
 namespace fracta {
 
 struct RunInfo {
-  std::string version;   // FRACTA_VERSION
-  std::string backend;   // Kokkos execution space name
+  std::string version;  // FRACTA_VERSION
+  std::string backend;  // Kokkos execution space name
   int threads = 1;
-  std::string case_text; // the case file text
+  std::string case_text;  // the case file text
   std::string case_path;
 };
 
@@ -59,13 +59,13 @@ struct FrameData {
   std::vector<double> node_position;  // current coordinates (m), 2 per node
   std::vector<double> node_displacement;
   std::vector<double> node_velocity;
-  std::vector<int> element_nodes;     // 4 per active element, counter-clockwise
-  std::vector<int> element_id;        // mesh index of each active element
+  std::vector<int> element_nodes;  // 4 per active element, counter-clockwise
+  std::vector<int> element_id;     // mesh index of each active element
   std::vector<int> element_body;
-  std::vector<double> element_stress; // Pa, 4 per element
+  std::vector<double> element_stress;  // Pa, 4 per element
   std::vector<double> element_plastic_strain;
-  std::vector<double> element_pressure;  // Pa, -(sxx + syy + szz) / 3
-  std::vector<double> element_von_mises; // Pa
+  std::vector<double> element_pressure;   // Pa, -(sxx + syy + szz) / 3
+  std::vector<double> element_von_mises;  // Pa
   // Discs (particles): node id, radius (m), rotation (rad), spin (rad/s), one entry per disc.
   std::vector<int> particle_node;
   std::vector<double> particle_radius, particle_rotation, particle_spin;
@@ -73,7 +73,13 @@ struct FrameData {
   // force (N, tension positive; 0 once broken).
   std::vector<int> bond_nodes, bond_state;
   std::vector<double> bond_normal_force;
-  std::vector<std::string> fields;    // which optional fields to write ("velocity", "stress", ...)
+  // Fragments (connected components over active bonds and alive elements): per node its
+  // fragment label (the smallest node id in it), and each fragment's mass (kg, largest first)
+  // and node count.
+  std::vector<int> node_fragment;
+  std::vector<double> fragment_mass;
+  std::vector<long> fragment_size;
+  std::vector<std::string> fields;  // which optional fields to write ("velocity", "stress", ...)
 };
 
 class OutputFile {

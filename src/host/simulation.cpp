@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "kernels/energy.hpp"
+#include "kernels/fragments.hpp"
 #include "kernels/integrate.hpp"
 #include "kernels/loads.hpp"
 
@@ -317,6 +318,16 @@ FrameData Simulation::frame(const std::vector<std::string>& fields) {
         std::sqrt(0.5 * ((s[0] - s[1]) * (s[0] - s[1]) + (s[1] - s[2]) * (s[1] - s[2]) +
                          (s[2] - s[0]) * (s[2] - s[0])) +
                   3.0 * s[3] * s[3]));
+  }
+  {
+    // Fragments: connected components over active bonds and alive elements.
+    if (fragments_.labels.extent(0) < static_cast<size_t>(n.count))
+      fragments_ = FragmentWorkspace(n.count);
+    const FragmentStats st = fragment_statistics(n, el, model_.bonds, fragments_);
+    f.fragment_mass = st.masses;
+    f.fragment_size = st.sizes;
+    auto labels = Kokkos::create_mirror_view_and_copy(HostSpace(), fragments_.labels);
+    f.node_fragment.assign(labels.data(), labels.data() + n.count);
   }
   if (n.has_particles()) {
     auto particle = Kokkos::create_mirror_view_and_copy(HostSpace(), n.particle);

@@ -6,6 +6,7 @@
 
 #include "host/model.hpp"
 #include "host/output.hpp"
+#include "kernels/fragments.hpp"
 
 namespace fracta {
 
@@ -55,6 +56,7 @@ class Simulation {
   std::string failure_;
   View<int*> probe_node_, probe_element_;
   View<double* [7]> probe_values_;
+  FragmentWorkspace fragments_;
 
   struct Snapshot {
     Nodes nodes;

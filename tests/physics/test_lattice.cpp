@@ -84,6 +84,13 @@ TensionRun run_tension(Formulation f, double nu) {
   }
   EXPECT_FALSE(sim.failed());
   const HistoryRecord end = sim.history();
+  // The frame's fragment statistics: the block broke into pieces whose masses add up to the
+  // total mass (1e-12: round-off of the sums).
+  const FrameData frame = sim.frame({});
+  EXPECT_GE(frame.fragment_mass.size(), 2u);
+  double fragments_mass = 0;
+  for (double m : frame.fragment_mass) fragments_mass += m;
+  EXPECT_NEAR(fragments_mass, end.mass, 1e-12 * end.mass);
   r.fracture = end.energy.fracture;
   r.broken = end.count.broken_bonds;
   return r;
