@@ -4,6 +4,8 @@
 // (bench/run_threads.sh does both).
 #include <benchmark/benchmark.h>
 
+#include "bench_main.hpp"
+
 #include <Kokkos_Core.hpp>
 #include <chrono>
 #include <cmath>
@@ -57,11 +59,5 @@ BENCHMARK(BM_BondPhase)
 }  // namespace
 
 int main(int argc, char** argv) {
-  setenv("OMP_PROC_BIND", "spread", 0);
-  setenv("OMP_PLACES", "threads", 0);
-  Kokkos::ScopeGuard kokkos(argc, argv);
-  benchmark::Initialize(&argc, argv);
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return fracta::bench::run_benchmarks(argc, argv, [] {});
 }

@@ -18,6 +18,8 @@
 // Run with OMP_NUM_THREADS=1 and =2: bench/run_contact_bench.sh prints both tables.
 #include <benchmark/benchmark.h>
 
+#include "bench_main.hpp"
+
 #include <Kokkos_Core.hpp>
 #include <algorithm>
 #include <chrono>
@@ -156,12 +158,5 @@ void register_benchmarks() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  setenv("OMP_PROC_BIND", "spread", 0);
-  setenv("OMP_PLACES", "threads", 0);
-  Kokkos::ScopeGuard kokkos(argc, argv);
-  register_benchmarks();
-  benchmark::Initialize(&argc, argv);
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return fracta::bench::run_benchmarks(argc, argv, register_benchmarks);
 }

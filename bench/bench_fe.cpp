@@ -3,6 +3,8 @@
 // Run with OMP_NUM_THREADS=1 and =2 (bench/run_threads.sh bench_fe does both).
 #include <benchmark/benchmark.h>
 
+#include "bench_main.hpp"
+
 #include <Kokkos_Core.hpp>
 #include <cmath>
 #include <memory>
@@ -59,11 +61,5 @@ BENCHMARK(BM_FeStep)
 }  // namespace
 
 int main(int argc, char** argv) {
-  setenv("OMP_PROC_BIND", "spread", 0);
-  setenv("OMP_PLACES", "threads", 0);
-  Kokkos::ScopeGuard kokkos(argc, argv);
-  benchmark::Initialize(&argc, argv);
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return fracta::bench::run_benchmarks(argc, argv, [] {});
 }

@@ -11,84 +11,54 @@
 
 namespace fracta {
 
-// First half kick and drift; zeroes the force accumulators for the next force evaluation.
-// Returns this half's external work (J).
+// One half kick per node. First half (Drift = true): kick, drift, and zero the force and
+// moment accumulators for the next force evaluation; the external work uses v(n+1/2) . f_ext(n).
+// Second half: the work uses v(n+1/2) . f_ext(n+1), then the kick. Returns that work (J).
+template <bool Drift>
+struct HalfKick {
+  Nodes nodes;
+  double dt;
+  bool rotations;  // the scene has particles (their views are allocated)
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int n, double& w) const {
+    const double inv_m = 1.0 / nodes.mass(n);
+    const int fix = nodes.fixed(n);
+    for (int d = 0; d < 2; ++d) {
+      if (!Drift) w += 0.5 * dt * nodes.v(n, d) * nodes.f_ext(n, d);
+      double vd = nodes.v(n, d) + 0.5 * dt * (nodes.f(n, d) + nodes.f_ext(n, d)) * inv_m;
+      if (fix & (1 << d)) vd = 0.0;
+      nodes.v(n, d) = vd;
+      if (Drift) {
+        nodes.x(n, d) += dt * vd;
+        w += 0.5 * dt * vd * nodes.f_ext(n, d);
+        nodes.f(n, d) = 0.0;
+        nodes.f_ext(n, d) = 0.0;
+      }
+    }
+    if (rotations) {
+      if (nodes.particle(n)) {
+        const double spin = nodes.spin(n) + 0.5 * dt * nodes.moment(n) / nodes.inertia(n);
+        nodes.spin(n) = spin;
+        if (Drift) nodes.rotation(n) += dt * spin;
+      }
+      if (Drift) nodes.moment(n) = 0.0;
+    }
+  }
+};
+
+// First half kick and drift. Returns this half's external work (J).
 inline double kick_drift(const Nodes& nodes, double dt) {
   double work = 0.0;
-  const auto x = nodes.x;
-  const auto v = nodes.v;
-  const auto f = nodes.f;
-  const auto f_ext = nodes.f_ext;
-  const auto mass = nodes.mass;
-  const auto fixed = nodes.fixed;
-  Kokkos::parallel_reduce(
-      "fracta::kick_drift", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
-      KOKKOS_LAMBDA(const int n, double& w) {
-        const double inv_m = 1.0 / mass(n);
-        const int fix = fixed(n);
-        for (int d = 0; d < 2; ++d) {
-          double vd = v(n, d) + 0.5 * dt * (f(n, d) + f_ext(n, d)) * inv_m;
-          if (fix & (1 << d)) vd = 0.0;
-          v(n, d) = vd;
-          x(n, d) += dt * vd;
-          w += 0.5 * dt * vd * f_ext(n, d);
-          f(n, d) = 0.0;
-          f_ext(n, d) = 0.0;
-        }
-      },
-      work);
-  if (nodes.has_particles()) {
-    const auto particle = nodes.particle;
-    const auto spin = nodes.spin;
-    const auto rotation = nodes.rotation;
-    const auto moment = nodes.moment;
-    const auto inertia = nodes.inertia;
-    Kokkos::parallel_for(
-        "fracta::kick_drift_rotation", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
-        KOKKOS_LAMBDA(const int n) {
-          if (particle(n)) {
-            const double w = spin(n) + 0.5 * dt * moment(n) / inertia(n);
-            spin(n) = w;
-            rotation(n) += dt * w;
-          }
-          moment(n) = 0.0;
-        });
-  }
+  Kokkos::parallel_reduce("fracta::kick_drift", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
+                          HalfKick<true>{nodes, dt, nodes.has_particles()}, work);
   return work;
 }
 
 // Second half kick. Returns this half's external work (J).
 inline double kick(const Nodes& nodes, double dt) {
   double work = 0.0;
-  const auto v = nodes.v;
-  const auto f = nodes.f;
-  const auto f_ext = nodes.f_ext;
-  const auto mass = nodes.mass;
-  const auto fixed = nodes.fixed;
-  Kokkos::parallel_reduce(
-      "fracta::kick", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
-      KOKKOS_LAMBDA(const int n, double& w) {
-        const double inv_m = 1.0 / mass(n);
-        const int fix = fixed(n);
-        for (int d = 0; d < 2; ++d) {
-          w += 0.5 * dt * v(n, d) * f_ext(n, d);
-          double vd = v(n, d) + 0.5 * dt * (f(n, d) + f_ext(n, d)) * inv_m;
-          if (fix & (1 << d)) vd = 0.0;
-          v(n, d) = vd;
-        }
-      },
-      work);
-  if (nodes.has_particles()) {
-    const auto particle = nodes.particle;
-    const auto spin = nodes.spin;
-    const auto moment = nodes.moment;
-    const auto inertia = nodes.inertia;
-    Kokkos::parallel_for(
-        "fracta::kick_rotation", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
-        KOKKOS_LAMBDA(const int n) {
-          if (particle(n)) spin(n) += 0.5 * dt * moment(n) / inertia(n);
-        });
-  }
+  Kokkos::parallel_reduce("fracta::kick", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
+                          HalfKick<false>{nodes, dt, nodes.has_particles()}, work);
   return work;
 }
 
