@@ -142,6 +142,35 @@ void build_probes(Model& model) {
   }
 }
 
+void build_rigid_bodies(Model& model) {
+  const Case& c = model.scene;
+  const HostMesh& m = model.mesh;
+  auto mass = Kokkos::create_mirror_view_and_copy(HostSpace(), model.nodes.mass);
+  std::vector<Vec2> offset(m.node_count(), Vec2{0.0, 0.0});
+  for (size_t b = 0; b < c.bodies.size(); ++b) {
+    if (c.bodies[b].method != BodyMethod::rigid) continue;
+    RigidBody r;
+    r.node_begin = m.bodies[b].node_begin;
+    r.node_end = m.bodies[b].node_end;
+    double mx = 0, my = 0;
+    for (int n = r.node_begin; n < r.node_end; ++n) {
+      r.mass += mass(n);
+      mx += mass(n) * m.position[n][0];
+      my += mass(n) * m.position[n][1];
+    }
+    r.x = mx / r.mass;
+    r.y = my / r.mass;
+    for (int n = r.node_begin; n < r.node_end; ++n) {
+      offset[n] = {m.position[n][0] - r.x, m.position[n][1] - r.y};
+      r.inertia += mass(n) * (offset[n][0] * offset[n][0] + offset[n][1] * offset[n][1]);
+    }
+    r.vx = c.bodies[b].initial_velocity[0];
+    r.vy = c.bodies[b].initial_velocity[1];
+    model.rigid.push_back(r);
+  }
+  if (!model.rigid.empty()) model.rigid_offset = to_device_rows("rigid_offset", offset);
+}
+
 bool convertible(BodyMethod m) {
   return m == BodyMethod::de || m == BodyMethod::adaptive;
 }
@@ -354,14 +383,12 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
 }  // namespace
 
 Model build_model(const Case& c) {
-  // Adaptive conversion and rigid bodies are not built yet: refuse, never ignore.
+  // A rigid part of a deformable body is not modelled: refuse, never ignore.
   for (const Body& b : c.bodies) {
     auto refuse = [&](BodyMethod m, const SourcePos& pos, const std::string& key) {
-      if (m == BodyMethod::rigid)
-        throw InputError(
-            pos.file, pos.line, key,
-            std::string("method '") + to_string(m) +
-                "' is not available in this version of fracta (only 'fe', 'de' and 'adaptive')");
+      if (m == BodyMethod::rigid && key.find(".region") != std::string::npos)
+        throw InputError(pos.file, pos.line, key,
+                         "a region cannot be rigid: make the whole body rigid");
     };
     refuse(b.method, b.pos, "body['" + b.name + "'].method");
     for (const Region& r : b.regions) refuse(r.method, r.pos, "body['" + b.name + "'].region");
@@ -450,6 +477,8 @@ Model build_model(const Case& c) {
   for (int e = 0; e < ne; ++e) {
     if (m.element_method[e] == BodyMethod::de) {
       converted.push_back(e);
+    } else if (m.element_method[e] == BodyMethod::rigid) {
+      alive[e] = 1;  // no FE forces, but it still joins its nodes (no self-contact)
     } else {
       active.push_back(e);
       alive[e] = 1;
@@ -475,6 +504,7 @@ Model build_model(const Case& c) {
   model.fe.bulk_linear = c.sim.bulk_viscosity_linear;
   model.fe.bulk_quadratic = c.sim.bulk_viscosity_quadratic;
 
+  build_rigid_bodies(model);
   build_loads(model);
   build_probes(model);
   if (needs_particles(c)) build_lattice(model, converted);

@@ -10,6 +10,7 @@
 #include "kernels/bond_forces.hpp"
 #include "kernels/conversion.hpp"
 #include "kernels/fe_forces.hpp"
+#include "kernels/rigid.hpp"
 #include "kernels/state.hpp"
 
 namespace fracta {
@@ -49,6 +50,9 @@ struct Model {
   View<BondLaw*> bond_laws;                   // per material
   // Disc contact (particles and FE boundary nodes); null when the scene has no discs.
   std::shared_ptr<ContactSystem> contacts;
+  // Rigid bodies and each node's offset from its body's centre of mass in the reference state.
+  std::vector<RigidBody> rigid;
+  View<double* [2]> rigid_offset;
   std::vector<ProbeSite> probes;
   std::vector<BodyProbeSite> body_probes;
 };

@@ -169,10 +169,16 @@ void Simulation::step() {
   Model& m = model_;
   ProfilingRegion region("fracta::step");
   external_work_ += kick_drift(m.nodes, dt_);
+  for (RigidBody& b : m.rigid) {
+    project_rigid(b, m.nodes);
+    drift_rigid(b, m.nodes, m.rigid_offset, dt_);
+    write_rigid_velocity(b, m.nodes);
+  }
   time_ += dt_;
   apply_loads(m.nodes, m.tables, m.pressure_edges, m.nodal_forces, c.sim.thickness, time_);
   dt_bound_ = evaluate_forces(dt_);
   external_work_ += kick(m.nodes, dt_);
+  for (RigidBody& b : m.rigid) project_rigid(b, m.nodes);
   if (m.has_adaptive && (steps_ + 1) % c.sim.conversion_interval == 0) convert();
   ++steps_;
 
@@ -422,6 +428,7 @@ void Simulation::save_snapshot() {
   snapshot_.conversion_energy = conversion_energy_;
   snapshot_.converted_count = model_.converted_count;
   snapshot_.conversions = conversions_;
+  snapshot_.rigid = model_.rigid;
   snapshot_.broken_bonds = broken_bonds_;
   snapshot_.active_elements = model_.elements.active_count;
   snapshot_.steps = steps_;
@@ -441,6 +448,7 @@ void Simulation::restore_snapshot() {
   conversion_energy_ = snapshot_.conversion_energy;
   model_.converted_count = snapshot_.converted_count;
   conversions_ = snapshot_.conversions;
+  model_.rigid = snapshot_.rigid;
   if (model_.contacts) model_.contacts->invalidate();
   broken_bonds_ = snapshot_.broken_bonds;
   model_.elements.active_count = snapshot_.active_elements;

@@ -66,6 +66,7 @@ class Simulation {
     double contact_dissipated = 0, contact_elastic = 0, conversion_energy = 0;
     int converted_count = 0;
     long conversions = 0;
+    std::vector<RigidBody> rigid;
     long broken_bonds = 0, steps = -1;
     int active_elements = 0;
   } snapshot_;
