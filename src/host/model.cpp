@@ -484,8 +484,9 @@ Model build_model(const Case& c) {
       alive[e] = 1;
     }
   }
-  el.active = to_device_1d<int>("element_active", active);
   el.active_count = static_cast<int>(active.size());
+  active.resize(ne, -1);  // capacity of every element: compaction swaps it with a scratch list
+  el.active = to_device_1d<int>("element_active", active);
   el.alive = to_device_1d<int>("element_alive", alive);
   el.stress = View<double* [4]>("fracta::qp_stress", static_cast<size_t>(ne) * qp);
   el.epeq = View<double*>("fracta::qp_epeq", static_cast<size_t>(ne) * qp);
