@@ -206,8 +206,9 @@ bool needs_particles(const Case& c) {
   return false;
 }
 
-// Bond slots (every edge once, then every diagonal of the elements of convertible bodies),
-// particle views, the topology for contact exclusion, and the time-0 conversion of de parts.
+// Bond slots (every edge once, then every diagonal of the elements of convertible bodies; none
+// when no body is convertible), particle views, the topology for contact exclusion, the contact
+// system, and the time-0 conversion of de parts.
 void build_lattice(Model& model, const std::vector<int>& converted) {
   const Case& c = model.scene;
   const HostMesh& m = model.mesh;
@@ -508,7 +509,9 @@ Model build_model(const Case& c) {
   build_rigid_bodies(model);
   build_loads(model);
   build_probes(model);
-  if (needs_particles(c)) build_lattice(model, converted);
+  // The lattice (bond slots of convertible bodies, disc views, contact) is built when a body can
+  // hold discs or when several bodies can touch; a single FE body needs none of it.
+  if (needs_particles(c) || c.bodies.size() > 1) build_lattice(model, converted);
   return model;
 }
 
