@@ -57,6 +57,7 @@ class Simulation {
   View<int*> probe_node_, probe_element_;
   View<double* [7]> probe_values_;
   FragmentWorkspace fragments_;
+  View<double*[3]> contact_force_, contact_force_prev_;  // contact's own (fx, fy, moment)
 
   struct Snapshot {
     Nodes nodes;
