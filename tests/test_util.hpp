@@ -2,7 +2,10 @@
 #pragma once
 #include <string>
 
+#include <algorithm>
+
 #include "host/case.hpp"
+#include "host/simulation.hpp"
 
 namespace fracta::test {
 
@@ -72,6 +75,18 @@ inline void add_probe(Case& c, const std::string& name, double x, double y) {
   p.name = name;
   p.at = {x, y};
   c.probes.push_back(p);
+}
+
+// Runs a simulation to its case's end time (or until it fails) and returns the worst relative
+// energy error seen, checked every `every` steps.
+inline double run_to_end(Simulation& sim, int every = 1) {
+  double worst = 0.0;
+  const double end = sim.model().scene.sim.end_time;
+  while (sim.time() < end * (1 - 1e-12) && !sim.failed()) {
+    sim.step();
+    if (sim.steps() % every == 0) worst = std::max(worst, sim.history().energy.error);
+  }
+  return worst;
 }
 
 }  // namespace fracta::test
