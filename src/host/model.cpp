@@ -499,6 +499,19 @@ Model build_model(const Case& c) {
   el.plastic_work = View<double*>("fracta::element_plastic_work", ne);
   el.hourglass_work = View<double*>("fracta::element_hourglass_work", ne);
   el.viscous_work = View<double*>("fracta::element_viscous_work", ne);
+  el.corner_force = View<double* [4][2]>("fracta::element_corner_force", ne);
+  {
+    // node -> corners CSR, corners in increasing element order (a fixed summation order).
+    std::vector<int> offset(nn + 1, 0), corner(4 * static_cast<size_t>(ne));
+    for (int e = 0; e < ne; ++e)
+      for (int a = 0; a < 4; ++a) ++offset[m.element_nodes[e][a] + 1];
+    for (int n = 0; n < nn; ++n) offset[n + 1] += offset[n];
+    std::vector<int> fill(offset.begin(), offset.end() - 1);
+    for (int e = 0; e < ne; ++e)
+      for (int a = 0; a < 4; ++a) corner[fill[m.element_nodes[e][a]]++] = 4 * e + a;
+    el.node_corner_offset = to_device_1d<int>("node_corner_offset", offset);
+    el.node_corner = to_device_1d<int>("node_corner", corner);
+  }
 
   model.fe.thickness = c.sim.thickness;
   model.fe.hourglass_stiffness = c.sim.hourglass == HourglassForm::stiffness ? 1 : 0;

@@ -100,6 +100,37 @@ inline void activate_element_bonds(const View<int*>& converted, int count,
 
 namespace fracta {
 
+// 1 if active element i has reached its conversion criterion: the material's conversion strain
+// (max over quadrature points) or, with on_tension, the tension cut-off (max principal stress).
+struct ConversionCriterion {
+  View<int*> active;
+  View<const int*> adaptive;
+  View<const MaterialLaw*> materials;
+  View<int*> material;
+  View<double*> epeq;
+  View<double* [4]> stress;
+  int qp;
+  bool on_tension;
+  KOKKOS_INLINE_FUNCTION int operator()(const int i) const {
+    const int e = active(i);
+    if (!adaptive(e)) return 0;
+    const MaterialLaw& m = materials(material(e));
+    double ep = 0.0, s1 = -1e300;
+    for (int g = 0; g < qp; ++g) {
+      const int q = e * qp + g;
+      ep = max_(ep, epeq(q));
+      const double c = 0.5 * (stress(q, 0) + stress(q, 1));
+      const double r = sqrt_(0.25 * (stress(q, 0) - stress(q, 1)) * (stress(q, 0) - stress(q, 1)) +
+                             stress(q, 3) * stress(q, 3));
+      s1 = max_(s1, c + r);
+    }
+    const bool strain = m.conversion_strain > 0.0 && ep >= m.conversion_strain;
+    const bool tension =
+        on_tension && m.tensile_strength > 0.0 && s1 >= m.tensile_strength * (1.0 - 1e-9);
+    return (strain || tension) ? 1 : 0;
+  }
+};
+
 // Adaptive conversion (DESIGN.md 1.3; paper Sec. 3.2, Eq. 14) as a stream compaction: flag the
 // active elements that reached their material's conversion strain (max over quadrature points;
 // optionally also the tension cut-off), then an exclusive parallel_scan gives every element its
@@ -116,28 +147,19 @@ inline int compact_converted(Elements& el, const View<const int*>& adaptive,
   const auto stress = el.stress;
   const auto material = el.material;
   const int qp = el.qp_per_element;
+  // The criterion is checked every conversion step, but elements rarely convert: count first
+  // (one read-only pass, no allocation) and build the flag/scan/scatter only when some do.
+  const ConversionCriterion criterion{active, adaptive, materials, material,
+                                      epeq,   stress,   qp,        on_tension};
+  int flagged = 0;
+  Kokkos::parallel_reduce(
+      "fracta::conversion_count", Kokkos::RangePolicy<ExecSpace>(0, n_active),
+      KOKKOS_LAMBDA(const int i, int& count) { count += criterion(i); }, flagged);
+  if (flagged == 0) return 0;
   View<int*> flag("fracta::conversion_flag", n_active);
   Kokkos::parallel_for(
       "fracta::conversion_flag", Kokkos::RangePolicy<ExecSpace>(0, n_active),
-      KOKKOS_LAMBDA(const int i) {
-        const int e = active(i);
-        if (!adaptive(e)) return;
-        const MaterialLaw m = materials(material(e));
-        double ep = 0.0, s1 = -1e300;
-        for (int g = 0; g < qp; ++g) {
-          const int q = e * qp + g;
-          ep = max_(ep, epeq(q));
-          const double c = 0.5 * (stress(q, 0) + stress(q, 1));
-          const double r =
-              sqrt_(0.25 * (stress(q, 0) - stress(q, 1)) * (stress(q, 0) - stress(q, 1)) +
-                    stress(q, 3) * stress(q, 3));
-          s1 = max_(s1, c + r);
-        }
-        const bool strain = m.conversion_strain > 0.0 && ep >= m.conversion_strain;
-        const bool tension =
-            on_tension && m.tensile_strength > 0.0 && s1 >= m.tensile_strength * (1.0 - 1e-9);
-        flag(i) = (strain || tension) ? 1 : 0;
-      });
+      KOKKOS_LAMBDA(const int i) { flag(i) = criterion(i); });
   int converted = 0;
   View<int*> position("fracta::conversion_position", n_active);
   Kokkos::parallel_scan(
@@ -150,6 +172,7 @@ inline int compact_converted(Elements& el, const View<const int*>& adaptive,
   if (converted == 0) return 0;
   const auto out_active = active_scratch;
   const auto alive = el.alive;
+  const auto corner_force = el.corner_force;
   Kokkos::parallel_for(
       "fracta::conversion_scatter", Kokkos::RangePolicy<ExecSpace>(0, n_active),
       KOKKOS_LAMBDA(const int i) {
@@ -157,6 +180,8 @@ inline int compact_converted(Elements& el, const View<const int*>& adaptive,
         if (flag(i)) {
           new_cells(position(i)) = e;
           alive(e) = 0;
+          // Its corners leave the node gather (GatherCornerForces) for good.
+          for (int a = 0; a < 4; ++a) corner_force(e, a, 0) = corner_force(e, a, 1) = 0.0;
         } else {
           out_active(i - position(i)) = e;
         }

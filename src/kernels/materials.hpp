@@ -150,17 +150,20 @@ KOKKOS_INLINE_FUNCTION double j2_plane_stress_return(const MaterialLaw& m, doubl
     const double dphi2 = -a1 * cv / (3.0 * u * u * u) - 4.0 * G * c2 / (w * w * w);
     const double dphi = dphi2 / (2.0 * phi);
     const double dgdg = dphi - r23 * H * r23 * (phi + dg * dphi);
-    if (g == 0.0) break;
+    // Converged at this dg: test before stepping. (A Newton step below the resolution of dg
+    // lands on the bracket end lo = dg and would be taken for an escape, sending dg to the
+    // bisection midpoint — as happened with FMA contraction on a 30:-20:25 yield-strain step.)
+    if (g == 0.0 || fabs_(g) <= 1e-16 * R) break;
     if (g > 0.0) {
       lo = dg;
     } else {
       hi = dg;
     }
     double dn = dg - g / dgdg;
-    if (!(dn > lo && (hi < 0.0 || dn < hi)) && hi >= 0.0) dn = 0.5 * (lo + hi);
+    if (!(dn >= lo && (hi < 0.0 || dn <= hi)) && hi >= 0.0) dn = 0.5 * (lo + hi);
     const double step = dn - dg;
     dg = dn;
-    if (fabs_(step) <= 1e-15 * dg || fabs_(g) <= 1e-16 * R) break;
+    if (fabs_(step) <= 1e-15 * dg) break;
   }
   const double u = 1.0 + cv * dg, w = 1.0 + 2.0 * G * dg;
   const double phi2 = a1 / (6.0 * u * u) + c2 / (w * w);

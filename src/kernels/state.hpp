@@ -116,6 +116,12 @@ struct Elements {
   View<double*> plastic_work;         // cumulative (J)
   View<double*> hourglass_work;       // cumulative (J)
   View<double*> viscous_work;         // cumulative bulk-viscosity work (J)
+  // Nodal forces without atomics: each element writes its four corner forces (N), and a node
+  // gathers the corners that touch it through the CSR list node -> (4 e + corner) of the mesh.
+  // A converted element's corners are zeroed once, so the gather needs no liveness test. The
+  // fixed gather order also makes the FE forces independent of the thread count.
+  View<double* [4][2]> corner_force;
+  View<int*> node_corner_offset, node_corner;  // corners of node n: [offset(n), offset(n+1))
 };
 
 // Piecewise-linear load tables, one per load, flattened: entries [offset[k], offset[k+1]).
