@@ -279,6 +279,19 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
       if (b >= 0) bond_cells[b][bond_cells[b][0] < 0 ? 0 : 1] = e;
     }
   bonds.cells = to_device_rows("bond_cells", bond_cells);
+  bonds.end_force = View<double* [2][3]>("fracta::bond_end_force", nb);
+  {
+    // node -> bond ends CSR, ends in increasing bond order (a fixed summation order).
+    std::vector<int> offset(nn + 1, 0), end(2 * static_cast<size_t>(nb));
+    for (int b = 0; b < nb; ++b)
+      for (int s = 0; s < 2; ++s) ++offset[slot_nodes[b][s] + 1];
+    for (int n = 0; n < nn; ++n) offset[n + 1] += offset[n];
+    std::vector<int> fill(offset.begin(), offset.end() - 1);
+    for (int b = 0; b < nb; ++b)
+      for (int s = 0; s < 2; ++s) end[fill[slot_nodes[b][s]]++] = 2 * b + s;
+    bonds.node_end_offset = to_device_1d<int>("node_bond_end_offset", offset);
+    bonds.node_end = to_device_1d<int>("node_bond_end", end);
+  }
   model.elements.cell_stress = View<double* [3]>("fracta::cell_stress", ne);
   model.elements.cell_intact = View<int*>("fracta::cell_intact", ne);
   model.elements.cell_strain_offset = View<double* [3]>("fracta::cell_strain_offset", ne);

@@ -1,6 +1,7 @@
 // Bond forces of the bonded disc lattice (DESIGN.md 1.2; paper Eqs. 5, 6 and 8-10 corrected).
 // One kernel over the bond slots: active bonds compute their normal and shear spring forces,
-// check Mohr-Coulomb failure with tension cut-off, and scatter forces and moments atomically.
+// check Mohr-Coulomb failure with tension cut-off, and store what they apply at their ends; a
+// node kernel gathers them (no atomics, and a fixed summation order).
 #pragma once
 #include "kernels/compat.hpp"
 #include "kernels/conversion.hpp"
@@ -91,7 +92,7 @@ struct BondForces {
     // exactly (angular momentum is conserved whatever the stretch).
     const double ri = nodes.radius(i), rj = nodes.radius(j);
     const double li = length * ri / (ri + rj), lj = length * rj / (ri + rj);
-    const BondLaw law = laws(bonds.material(b));
+    const BondLaw& law = laws(bonds.material(b));
     const double kn = bonds.kn(b), ks = bonds.ks(b), area = bonds.area(b), L0 = bonds.length0(b);
     // Bilinear parameters in force units: yield force = yield stress * S, hardening modulus
     // in force per unit plastic displacement H S / L0.
@@ -163,6 +164,8 @@ struct BondForces {
       bonds.state(b) = kBondBroken;
       bonds.fn(b) = 0.0;
       bonds.fs(b) = 0.0;
+      for (int s = 0; s < 2; ++s)
+        for (int k = 0; k < 3; ++k) bonds.end_force(b, s, k) = 0.0;
       acc.v[0] += energy;
       acc.v[1] += plastic;
       acc.v[2] += 1.0;
@@ -177,14 +180,30 @@ struct BondForces {
     acc.v[1] += plastic;
     // Force on i: fn n + fs t; on j the opposite; moments l_i fs and l_j fs (DESIGN.md 1.2).
     const double fx = fn * nx - fs * ny, fy = fn * ny + fs * nx;
-    Kokkos::atomic_add(&nodes.f(i, 0), fx);
-    Kokkos::atomic_add(&nodes.f(i, 1), fy);
-    Kokkos::atomic_add(&nodes.f(j, 0), -fx);
-    Kokkos::atomic_add(&nodes.f(j, 1), -fy);
-    if (ks > 0.0) {
-      Kokkos::atomic_add(&nodes.moment(i), li * fs);
-      Kokkos::atomic_add(&nodes.moment(j), lj * fs);
+    bonds.end_force(b, 0, 0) = fx;
+    bonds.end_force(b, 0, 1) = fy;
+    bonds.end_force(b, 0, 2) = li * fs;
+    bonds.end_force(b, 1, 0) = -fx;
+    bonds.end_force(b, 1, 1) = -fy;
+    bonds.end_force(b, 1, 2) = lj * fs;
+  }
+};
+
+// f(n) and moment(n) += what the bonds apply at disc n (Bonds::end_force).
+struct GatherBondForces {
+  Nodes nodes;
+  Bonds bonds;
+  KOKKOS_INLINE_FUNCTION void operator()(const int n) const {
+    double fx = 0.0, fy = 0.0, moment = 0.0;
+    for (int k = bonds.node_end_offset(n); k < bonds.node_end_offset(n + 1); ++k) {
+      const int end = bonds.node_end(k);
+      fx += bonds.end_force(end / 2, end % 2, 0);
+      fy += bonds.end_force(end / 2, end % 2, 1);
+      moment += bonds.end_force(end / 2, end % 2, 2);
     }
+    nodes.f(n, 0) += fx;
+    nodes.f(n, 1) += fy;
+    nodes.moment(n) += moment;
   }
 };
 
@@ -196,6 +215,8 @@ inline BondStepResult compute_bond_forces(const Nodes& nodes, const Elements& el
   Sums<3> s;
   Kokkos::parallel_reduce("fracta::bond_forces", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
                           BondForces{nodes, elements, bonds, laws, dt}, Kokkos::Sum<Sums<3>>(s));
+  Kokkos::parallel_for("fracta::bond_gather", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
+                       GatherBondForces{nodes, bonds});
   r.fracture_energy = s.v[0];
   r.plastic_work = s.v[1];
   r.broken = static_cast<long>(s.v[2] + 0.5);

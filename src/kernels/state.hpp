@@ -63,6 +63,11 @@ struct Bonds {
   View<double*> hardening;     // accumulated plastic displacement (m), isotropic hardening
   View<double*> plastic_work;  // cumulative (J)
   View<int* [2]> cells;        // converted cells whose face (edge) or body (diagonal) it is; -1
+  // Forces without atomics: each bond writes what it applies to its two ends (fx, fy in N,
+  // moment in N m), and each disc gathers its ends through the CSR list node -> (2 b + end).
+  // A bond that is not active holds zeros (set when it breaks), so the gather needs no test.
+  View<double* [2][3]> end_force;
+  View<int*> node_end_offset, node_end;  // ends at node n: [offset(n), offset(n+1))
   int count = 0;
 };
 
