@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Kokkos 3.4.1 source, shared by scripts/setup.sh (OpenMP build) and scripts/cuda_check.sh
 # (CUDA build). Source this file, then call
 #   fracta_kokkos_source CACHE_DIR DEST_DIR
