@@ -12,6 +12,7 @@
 #   CUDA_ROOT             CUDA toolkit (default /usr/local/cuda)
 #   FRACTA_PREFIX         where the Kokkos goes (default /opt/fracta, as scripts/setup.sh)
 #   FRACTA_CUDA_BUILD_DIR build directory of the kernel units (default <repo>/build-cuda)
+#   FRACTA_CUDA_CHECK_TESTS=1 also compile the kernel tests (tests/kernels/*.cpp)
 # Needs g++, cmake, ninja-build and dpkg-dev (scripts/setup.sh installs them).
 set -euo pipefail
 
@@ -78,12 +79,16 @@ kokkos_seconds=$(elapsed "$t0")
 # --- 2. fracta's kernels, compile only ------------------------------------------------------
 t1=$(now)
 mkdir -p "$build_dir"
+with_tests=OFF
+if [ "${FRACTA_CUDA_CHECK_TESTS:-0}" = 1 ]; then with_tests=ON; fi
 if [ ! -f "$build_dir/CMakeCache.txt" ]; then
   cmake -S "$repo/cuda" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release \
     -DKokkos_ROOT="$kokkos_prefix" -DCMAKE_CXX_COMPILER="$kokkos_prefix/bin/nvcc_wrapper" \
+    -DFRACTA_CUDA_CHECK_TESTS="$with_tests" \
     >"$build_dir/configure.log" 2>&1 || { cat "$build_dir/configure.log" >&2; exit 1; }
 else
-  cmake "$build_dir" >"$build_dir/configure.log" 2>&1 || { cat "$build_dir/configure.log" >&2; exit 1; }
+  cmake "$build_dir" -DFRACTA_CUDA_CHECK_TESTS="$with_tests" >"$build_dir/configure.log" 2>&1 ||
+    { cat "$build_dir/configure.log" >&2; exit 1; }
 fi
 sed -n 's/^-- fracta CUDA check: /[cuda_check] /p' "$build_dir/configure.log" >&2
 log=$build_dir/build.log
