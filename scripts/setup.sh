@@ -46,32 +46,11 @@ elif [ -f "$kokkos_prefix/.fracta-stamp" ]; then
 else
   kokkos_root=$kokkos_prefix
   say "building Kokkos 3.4.1 (OpenMP + Serial) into $kokkos_prefix (about a minute, once)"
-  src_cache=$prefix/src
-  mkdir -p "$src_cache"
-  chown _apt:root "$src_cache" 2>/dev/null || true  # apt-get source downloads as _apt
-  tarball=$src_cache/trilinos_13.2.0.orig.tar.gz
-  want_sha=0ddb47784ba7b8a6b9a07a4822b33be508feb4ccd54301b2a5d10c9e54524b90
-  if [ ! -f "$tarball" ] || [ "$(sha256sum "$tarball" | cut -d' ' -f1)" != "$want_sha" ]; then
-    # A deb-src entry mirroring the configured Debian sources (no host is named here).
-    if ! apt-get source --download-only --print-uris trilinos=13.2.0-4 >/dev/null 2>&1; then
-      if [ -f /etc/apt/sources.list.d/debian.sources ]; then
-        sed 's/^Types: deb$/Types: deb-src/' /etc/apt/sources.list.d/debian.sources \
-          >/etc/apt/sources.list.d/fracta-deb-src.sources
-      elif [ -f /etc/apt/sources.list ]; then
-        sed -n 's/^deb /deb-src /p' /etc/apt/sources.list >/etc/apt/sources.list.d/fracta-deb-src.list
-      fi
-      apt-get update -qq
-    fi
-    (cd "$src_cache" && apt-get source --download-only -qq trilinos=13.2.0-4 >/dev/null)
-    got_sha=$(sha256sum "$tarball" | cut -d' ' -f1)
-    if [ "$got_sha" != "$want_sha" ]; then
-      say "trilinos tarball hash mismatch: $got_sha"
-      exit 1
-    fi
-  fi
   work=$(mktemp -d)
   trap 'rm -rf "$work"' EXIT
-  tar xzf "$tarball" -C "$work" --strip-components=3 --wildcards '*/packages/kokkos/*'
+  # shellcheck source=scripts/kokkos_source.sh
+  . "$repo/scripts/kokkos_source.sh"
+  fracta_kokkos_source "$prefix/src" "$work"
   cmake -S "$work" -B "$work/build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
     -DCMAKE_CXX_STANDARD=17 -DCMAKE_INSTALL_PREFIX="$kokkos_prefix" \
     -DKokkos_ENABLE_OPENMP=ON -DKokkos_ENABLE_SERIAL=ON >"$work/configure.log" 2>&1 ||

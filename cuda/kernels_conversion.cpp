@@ -1,0 +1,31 @@
+// CUDA check unit for src/kernels/conversion.hpp: element-to-disc conversion (compaction,
+// prestress, bond activation, re-basing) and the lattice helpers on the device.
+#include "kernels/conversion.hpp"
+
+namespace fracta::cuda_check {
+
+double conversion_kernels(Elements& elements, const Nodes& nodes, const Bonds& bonds,
+                          const View<const int*>& adaptive,
+                          const View<const MaterialLaw*>& materials,
+                          const View<int* [6]>& element_bonds, const View<int*>& new_cells,
+                          View<int*>& active_scratch, const View<double*>& out) {
+  const Elements el = elements;
+  Kokkos::parallel_for(
+      "fracta::cuda_check_lattice", Kokkos::RangePolicy<ExecSpace>(0, out.extent(0)),
+      KOKKOS_LAMBDA(const int e) {
+        const LatticeStiffness s = lattice_stiffness(2e11, 0.3, e % 2 == 0, 0.01);
+        double green[3];
+        cell_green_lagrange(el, nodes, e, green);
+        out(e) = s.k1 + s.k2 + s.ks + green[0];
+      });
+  View<LatticeStiffness*> stiffness("fracta::cuda_check_stiffness", 1);
+  const View<const LatticeStiffness*> stiffness_c = stiffness;
+  const int n = compact_converted(elements, adaptive, materials, true, new_cells, active_scratch);
+  const double energy =
+      prestress_converted_bonds(new_cells, n, element_bonds, stiffness_c, elements, nodes, bonds);
+  activate_element_bonds(new_cells, n, element_bonds, stiffness_c, elements, nodes, bonds);
+  finish_converted_bonds(new_cells, n, element_bonds, nodes, bonds);
+  return energy;
+}
+
+}  // namespace fracta::cuda_check
