@@ -414,9 +414,9 @@ double largest_relative_difference(const Normalised& a, const Normalised& b) {
 // hourglass control) with 1 um and 1 m cells: every length and time scaled, stresses and
 // speeds unchanged. The equations are invariant, so the normalised probe velocities and
 // energies must agree; the two scales round differently (~1e-16 per operation), which the
-// plastic and contact nonlinearity amplify over the 120 steps to 1.1e-10 (measured, the same
+// plastic and contact nonlinearity amplify over the 120 steps to 2.3e-10 (measured, the same
 // in repeated runs with 2 threads; 4e-13 with one thread through the CLI): 1e-9 leaves a
-// margin of 9 and still fails at once on any absolute length, time or velocity in the solver
+// margin of 4 and still fails at once on any absolute length, time or velocity in the solver
 // (an error of order 1 at one of the two scales). Not the adaptive slab: its bond breakage turns
 // the non-deterministic order of the atomic sums with 2 threads into percent-level differences
 // between two runs at the SAME scale (measured: 1e-2 in the energies, 11% in the conversion count),
