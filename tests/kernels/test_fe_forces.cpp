@@ -80,6 +80,9 @@ PatchResult run_patch(Formulation f, int qp, const double L[2][2], const double 
   if (theta == 0.0) {
     const double deps[3] = {Lm[0][0] * p.dt, Lm[1][1] * p.dt, 0.5 * (Lm[0][1] + Lm[1][0]) * p.dt};
     elastic_increment(law, deps, exact);
+    // The increment is added in the mid-step frame and turned with the body over the second
+    // half of the step (by half the step's spin, Lm's skew part).
+    jaumann_rotate(exact, 0.25 * (Lm[0][1] - Lm[1][0]) * p.dt);
   }
   // Rigid: relative to E |theta| (the size of the displacement gradient, for round-off).
   const double scale = rigid ? law.youngs_modulus * std::max(std::fabs(theta), 1e-6)
