@@ -161,13 +161,16 @@ struct RestartRuns {
   double t_k = 0;
 };
 
-RestartRuns restart_at_middle(const std::string& env, const std::string& dir) {
+// `sets`: extra --set assignments of all three runs ("" for none).
+RestartRuns restart_at_middle(const std::string& env, const std::string& dir,
+                              const std::string& sets) {
+  const std::string extra = sets.empty() ? "" : " --set " + sets;
   RestartRuns r;
   r.full = dir + "/full.h5";
   r.part = dir + "/part.h5";
   r.checkpoint = dir + "/part.ckpt.h5";
   r.restarted = dir + "/restarted.h5";
-  const Result u = run("run " + kScene + " -o " + r.full, env);
+  const Result u = run("run " + kScene + " -o " + r.full + extra, env);
   EXPECT_EQ(u.code, 0) << u.out;
   {
     H5File f(r.full);
@@ -180,17 +183,19 @@ RestartRuns restart_at_middle(const std::string& env, const std::string& dir) {
     r.k = static_cast<long>(time.size()) / 2;
     r.t_k = time[r.k];
   }
-  const Result i =
-      run("run " + kScene + " -o " + r.part + " --set simulation.end_time=" + exact(r.t_k), env);
+  const Result i = run(
+      "run " + kScene + " -o " + r.part + " --set simulation.end_time=" + exact(r.t_k) + " " + sets,
+      env);
   EXPECT_EQ(i.code, 0) << i.out;
   const Result restarted =
-      run("run " + kScene + " --restart " + r.checkpoint + " -o " + r.restarted, env);
+      run("run " + kScene + " --restart " + r.checkpoint + " -o " + r.restarted + extra, env);
   EXPECT_EQ(restarted.code, 0) << restarted.out;
   return r;
 }
 
-TEST(Checkpoint, RestartReproducesTheUninterruptedRunBitwiseOnOneThread) {
-  const RestartRuns r = restart_at_middle("OMP_NUM_THREADS=1", scratch("bitwise1"));
+void expect_bitwise_restart(const std::string& name, const std::string& sets) {
+  SCOPED_TRACE(name);
+  const RestartRuns r = restart_at_middle("OMP_NUM_THREADS=1", scratch(name), sets);
   ASSERT_GT(r.k, 0);
   H5File u(r.full), c(r.checkpoint), re(r.restarted);
   ASSERT_GE(u.id, 0);
@@ -237,6 +242,12 @@ TEST(Checkpoint, RestartReproducesTheUninterruptedRunBitwiseOnOneThread) {
     }
   }
   EXPECT_EQ(string_attribute(re.id, "/run", "status"), "completed");
+}
+
+TEST(Checkpoint, RestartReproducesTheUninterruptedRunBitwiseOnOneThread) {
+  expect_bitwise_restart("bitwise_fe_projectile", "");
+  // The same with a rigid projectile: rigid-body state (centre, rotation, velocities).
+  expect_bitwise_restart("bitwise_rigid_projectile", "body.projectile.method=rigid");
 }
 
 // With two threads the atomic force sums are ordered differently from run to run: two
@@ -473,6 +484,37 @@ TEST(Checkpoint, SigkillLeavesAReadableOutputWithEveryListedFrame) {
     if (frames >= 2) ++killed_with_frames;
   }
   EXPECT_GE(killed_with_frames, 4);  // the kills did land mid-run, after frames were written
+}
+
+// A crash while a checkpoint is being written must leave the previous one intact (write to
+// PATH.tmp, fsync, rename). The run writes a checkpoint every step, so most of its time is spent
+// writing them, and is killed at several instants; the checkpoint left must always restart.
+TEST(Checkpoint, SigkillWhileCheckpointingLeavesAValidCheckpoint) {
+  const std::string dir = scratch("sigkill_checkpoint");
+  for (int delay_ms : {0, 15, 40, 80}) {
+    const std::string out = dir + "/kill" + std::to_string(delay_ms) + ".h5";
+    const std::string checkpoint = dir + "/kill" + std::to_string(delay_ms) + ".ckpt.h5";
+    const pid_t pid = spawn({"run", kScene, "-o", out, "--set", "simulation.end_time=1e-3",
+                             "output.checkpoint_interval=1e-12"},
+                            out + ".log");
+    ASSERT_GT(pid, 0);
+    ASSERT_TRUE(wait_for_file(checkpoint, pid)) << slurp(out + ".log");
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+    ASSERT_EQ(kill(pid, SIGKILL), 0);
+    int status = 0;
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFSIGNALED(status)) << "finished before the kill: " << slurp(out + ".log");
+    double t = 0;
+    {
+      H5File c(checkpoint);
+      ASSERT_GE(c.id, 0) << checkpoint << " does not open after SIGKILL at " << delay_ms << " ms";
+      t = attribute(c.id, "time");
+    }
+    const Result r =
+        run("run " + kScene + " --restart " + checkpoint + " -o " + dir + "/re" +
+            std::to_string(delay_ms) + ".h5 --set simulation.end_time=" + exact(t + 0.5e-6));
+    EXPECT_EQ(r.code, 0) << r.out;
+  }
 }
 
 }  // namespace
