@@ -480,8 +480,12 @@ int run_case(const Case& c, const RunOptions& opt) {
                                                      : opt.output_path;
   Simulation sim(c);
   if (restart) {
+    const auto read0 = clock::now();
     read_checkpoint_state(sim, opt.restart_path);
     sim.save_snapshot();
+    std::fprintf(stdout, "fracta: restarted from %s at t = %.6g s (step %ld), read in %.3f s\n",
+                 opt.restart_path.c_str(), sim.time(), sim.steps(),
+                 std::chrono::duration<double>(clock::now() - read0).count());
   }
   RunInfo info;
   info.version = FRACTA_VERSION;
