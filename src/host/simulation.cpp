@@ -538,6 +538,7 @@ int run_case(const Case& c, const RunOptions& opt) {
   const StopSignals stop_signals;
 
   double last_print = 0.0;
+  const long first_step = sim.steps();  // > 0 on a restart
   auto progress = [&](bool final_line) {
     const double wall = std::chrono::duration<double>(clock::now() - wall0).count();
     if (!final_line) {
@@ -545,7 +546,7 @@ int run_case(const Case& c, const RunOptions& opt) {
       if (wall - last_print < interval) return;
     }
     last_print = wall;
-    const double rate = sim.steps() / std::max(wall, 1e-9);
+    const double rate = (sim.steps() - first_step) / std::max(wall, 1e-9);
     const double remaining_steps = sim.dt() > 0 ? (end - sim.time()) / sim.dt() : 0.0;
     char line[256];
     std::snprintf(line, sizeof line,
