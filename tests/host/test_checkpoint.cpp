@@ -138,6 +138,13 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
          (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
 }
 
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
 // --- the scene and its runs ---------------------------------------------------------------
 
 const std::string kScene = data("restart/impact.toml");
@@ -297,7 +304,7 @@ TEST(Checkpoint, TwoThreadRestartAgreesWithOneThreadWithinRoundOff) {
   EXPECT_EQ(doubles(a.id, fa + "/bond_state"), doubles(b.id, fb + "/bond_state"));
 }
 
-TEST(Checkpoint, RestartRefusesAChangedModelAndBadCheckpointsWithCode2) {
+TEST(Checkpoint, RestartRefusesModelChangesAndBadCheckpointsAndKeepsTheOldOutput) {
   const std::string dir = scratch("refuse");
   const std::string out = dir + "/run.h5", checkpoint = dir + "/run.ckpt.h5";
   const Result r = run("run " + kScene + " -o " + out + " --set simulation.end_time=3e-6");
@@ -336,6 +343,19 @@ TEST(Checkpoint, RestartRefusesAChangedModelAndBadCheckpointsWithCode2) {
   const Result same = run("run " + kScene + " --restart " + checkpoint + " -o " + out);
   EXPECT_EQ(same.code, 2) << same.out;
   EXPECT_NE(same.out.find(checkpoint + ": restart:"), std::string::npos) << same.out;
+
+  // Without -o, a restart of a case whose output is the interrupted run's own file writes
+  // OUT.restart.h5 beside it; the interrupted run's file is left byte for byte as it was.
+  const std::string own = dir + "/own.h5", own_checkpoint = dir + "/own.ckpt.h5";
+  const Result first =
+      run("run " + kScene + " --set output.file=" + own + " simulation.end_time=3e-6");
+  ASSERT_EQ(first.code, 0) << first.out;
+  const std::string before = slurp(own);
+  const Result again = run("run " + kScene + " --restart " + own_checkpoint +
+                           " --set output.file=" + own + " simulation.end_time=4e-6");
+  EXPECT_EQ(again.code, 0) << again.out;
+  EXPECT_TRUE(fs::exists(dir + "/own.restart.h5")) << again.out;
+  EXPECT_TRUE(slurp(own) == before) << "the interrupted run's output changed";
 
   // Missing, truncated and foreign checkpoint files.
   const std::string truncated = dir + "/truncated.ckpt.h5";
@@ -381,13 +401,6 @@ bool wait_for_file(const std::string& path, pid_t pid) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   return false;
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // A run long enough to be interrupted (1 ms simulated: ~12000 steps, ~30 s), checkpoints every
