@@ -1,5 +1,6 @@
 // fracta command line (DESIGN.md 3.1): run | check | info.
-// Exit codes: 0 success, 2 bad input, 3 numerical failure (after writing the last good state).
+// Exit codes: 0 success, 2 bad input, 3 numerical failure (after writing the last good state),
+// 130 / 143 stopped by SIGINT / SIGTERM (after writing a checkpoint and a final frame).
 #include <unistd.h>
 #include <CLI/CLI.hpp>
 #include <Kokkos_Core.hpp>
@@ -78,11 +79,20 @@ int main(int argc, char** argv) {
 
   CLI::App app{"fracta: 2D adaptive FE-DE impact dynamics"};
   app.require_subcommand(1);
-  std::string case_path, output_path;
+  std::string case_path, output_path, restart_path;
   std::vector<std::string> overrides;
   auto* run = app.add_subcommand("run", "run a case and write HDF5 (+ XDMF) output");
+  run->footer(
+      "Checkpoints: [output] checkpoint_interval = T (s) writes the complete state to "
+      "OUT.ckpt.h5 every T of simulated time and at the end (replaced atomically).\n"
+      "SIGINT (Ctrl-C) / SIGTERM: stop after the current step, write a checkpoint and a final "
+      "frame, exit 130 / 143.\nExit codes: 0 done, 2 bad input, 3 numerical failure.");
   run->add_option("case", case_path, "case file (TOML)")->required();
   run->add_option("-o,--output", output_path, "output file (default: the case's output.file)");
+  run->add_option("--restart", restart_path,
+                  "continue from a checkpoint (OUT.ckpt.h5); the case may change only end_time, "
+                  "output_interval, history_interval, title and [output]. Writes a new output "
+                  "(-o, else OUT.restart.h5), never the interrupted run's");
   run->add_option("--set", overrides, "override a case value: section.key=value")->take_all();
   auto* check = app.add_subcommand("check", "validate a case and print what will be modelled");
   check->add_option("case", case_path, "case file (TOML)")->required();
@@ -105,6 +115,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("check")) return check_case(c);
     fracta::RunOptions opt;
     opt.output_path = output_path;
+    opt.restart_path = restart_path;
     opt.progress_on_terminal = isatty(STDOUT_FILENO);
     return fracta::run_case(c, opt);
   } catch (const fracta::InputError& e) {

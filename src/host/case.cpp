@@ -948,6 +948,7 @@ Case parse_case(const std::string& text, const std::string& source_name,
   Case c;
   c.path = source_name;
   c.text = text;
+  c.overrides = overrides;
   read_case(Reader(src, root, ""), c);
   return c;
 }
@@ -964,6 +965,79 @@ Case load_case(const std::string& path, const std::vector<std::string>& override
   text << in.rdbuf();
   if (in.bad()) throw InputError(path, 0, "", "cannot read the case file");
   return parse_case(text.str(), path, overrides);
+}
+
+namespace {
+
+// Keys a restart may change: they do not define the model (DESIGN.md 3.2).
+bool restart_may_change(const std::string& key) {
+  return key == "output" || key == "simulation.end_time" || key == "simulation.output_interval" ||
+         key == "simulation.history_interval" || key == "simulation.title";
+}
+
+// The first key under `prefix` where a and b differ ("" if none); `where` gets the node of b
+// to point at (or of its parent when b lacks the key).
+std::string first_difference(const toml::node& a, const toml::node& b, const std::string& prefix,
+                             const toml::node*& where) {
+  if (restart_may_change(prefix)) return "";
+  where = &b;
+  const toml::table *ta = a.as_table(), *tb = b.as_table();
+  const toml::array *aa = a.as_array(), *ab = b.as_array();
+  if (ta && tb) {
+    for (auto&& [k, va] : *ta) {
+      const std::string key =
+          prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+      if (restart_may_change(key)) continue;
+      const toml::node* vb = tb->get(k.str());
+      if (!vb) return key;
+      const std::string d = first_difference(va, *vb, key, where);
+      if (!d.empty()) return d;
+      where = &b;
+    }
+    for (auto&& [k, vb] : *tb) {
+      const std::string key =
+          prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+      if (!restart_may_change(key) && !ta->get(k.str())) {
+        where = &vb;
+        return key;
+      }
+    }
+    return "";
+  }
+  if (aa && ab) {
+    if (aa->size() != ab->size()) return prefix;
+    for (size_t i = 0; i < aa->size(); ++i) {
+      // Entries of an array of tables are named as --set addresses them: body.NAME.key.
+      const toml::table* entry = aa->get(i)->as_table();
+      const auto* name = entry ? entry->get_as<std::string>("name") : nullptr;
+      const std::string sub =
+          entry ? prefix + "." + (name ? name->get() : std::to_string(i)) : prefix;
+      const std::string d = first_difference(*aa->get(i), *ab->get(i), sub, where);
+      if (!d.empty()) return d;
+      where = &b;
+    }
+    return "";
+  }
+  return toml::node_view<const toml::node>(&a) == toml::node_view<const toml::node>(&b) ? ""
+                                                                                        : prefix;
+}
+
+}  // namespace
+
+void check_restart_compatible(const Case& stored, const Case& now) {
+  Source stored_src(stored.path), now_src(now.path);
+  toml::table a = parse_toml(stored.text, stored.path);
+  for (const std::string& o : stored.overrides) apply_override(a, o, stored_src);
+  toml::table b = parse_toml(now.text, now.path);
+  for (const std::string& o : now.overrides) apply_override(b, o, now_src);
+  const toml::node* where = &b;
+  const std::string key = first_difference(a, b, "", where);
+  if (key.empty()) return;
+  const SourcePos p = now_src.pos(*where);
+  throw InputError(p.file, p.line, key,
+                   "differs from the case the checkpoint was written with (" + stored.path +
+                       "): a restart may change only simulation.end_time, output_interval, "
+                       "history_interval, title and [output]");
 }
 
 const char* to_string(Formulation f) {

@@ -160,8 +160,9 @@ struct OutputParams {
 };
 
 struct Case {
-  std::string path;  // file it was read from
-  std::string text;  // the file text, recorded in the output
+  std::string path;                    // file it was read from
+  std::string text;                    // the file text, recorded in the output
+  std::vector<std::string> overrides;  // the --set overrides applied to it
   SimulationParams sim;
   std::vector<Material> materials;
   ContactParams contact;
@@ -178,6 +179,12 @@ struct Case {
 Case load_case(const std::string& path, const std::vector<std::string>& overrides = {});
 Case parse_case(const std::string& text, const std::string& source_name,
                 const std::vector<std::string>& overrides = {});
+
+// Refuses (InputError at the first differing key of `now`) a case that does not define the same
+// model as `stored`, the case a checkpoint was written with: both are compared as parsed TOML
+// (with their --set overrides) except what a restart may change, simulation.end_time,
+// output_interval, history_interval, title and the [output] table (DESIGN.md 3.2).
+void check_restart_compatible(const Case& stored, const Case& now);
 
 const char* to_string(Formulation f);
 const char* to_string(MaterialModel m);

@@ -102,4 +102,41 @@ std::vector<std::array<int, 2>> ContactSystem::candidate_pairs_host() const {
   return out;
 }
 
+ContactSystem::ListState ContactSystem::list_state() const {
+  ListState s;
+  s.built = built_;
+  s.rebuilds = rebuilds_;
+  const auto range = std::make_pair(0L, pair_count_);
+  auto hi = Kokkos::create_mirror_view_and_copy(HostSpace(), Kokkos::subview(pair_i_, range));
+  auto hj = Kokkos::create_mirror_view_and_copy(HostSpace(), Kokkos::subview(pair_j_, range));
+  s.pair_i.assign(hi.data(), hi.data() + pair_count_);
+  s.pair_j.assign(hj.data(), hj.data() + pair_count_);
+  auto xb = Kokkos::create_mirror_view_and_copy(HostSpace(), x_build_);
+  for (size_t k = 0; k < xb.extent(0); ++k)
+    for (int d = 0; d < 2; ++d) s.x_build.push_back(xb(k, d));
+  return s;
+}
+
+void ContactSystem::restore_list_state(const ListState& s) {
+  const size_t n = discs_.extent(0);
+  if (s.pair_i.size() != s.pair_j.size() || s.x_build.size() != 2 * n)
+    throw std::invalid_argument("contact list state: sizes do not match the contact discs");
+  const long count = static_cast<long>(s.pair_i.size());
+  if (static_cast<long>(pair_i_.extent(0)) < count) {
+    pair_i_ = View<int*>("fracta::contact_pair_i", count);
+    pair_j_ = View<int*>("fracta::contact_pair_j", count);
+  }
+  using HostInts = Kokkos::View<const int*, HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>;
+  const auto range = std::make_pair(0L, count);
+  Kokkos::deep_copy(Kokkos::subview(pair_i_, range), HostInts(s.pair_i.data(), count));
+  Kokkos::deep_copy(Kokkos::subview(pair_j_, range), HostInts(s.pair_j.data(), count));
+  auto xb = Kokkos::create_mirror_view(x_build_);
+  for (size_t k = 0; k < n; ++k)
+    for (int d = 0; d < 2; ++d) xb(k, d) = s.x_build[2 * k + d];
+  Kokkos::deep_copy(x_build_, xb);
+  pair_count_ = count;
+  built_ = s.built;
+  rebuilds_ = s.rebuilds;
+}
+
 }  // namespace fracta

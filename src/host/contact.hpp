@@ -56,6 +56,19 @@ class ContactSystem {
   View<const int*> pair_j() const { return pair_j_; }
   const ContactLaw& law() const { return law_; }
 
+  // The candidate list and its reference positions, for checkpoints: a restart that rebuilt
+  // the list at another step than the uninterrupted run would change the order of the force
+  // sums (and so the last bits of the result); restoring it makes the restart bitwise.
+  struct ListState {
+    std::vector<int> pair_i, pair_j;  // candidate_count() pairs, in list order
+    std::vector<double> x_build;      // disc_count() x 2 positions at the last build (m)
+    bool built = false;
+    long rebuilds = 0;
+  };
+  ListState list_state() const;
+  // Throws std::invalid_argument if the sizes do not match this system's discs.
+  void restore_list_state(const ListState& s);
+
  private:
   void rebuild(const Nodes& nodes);
 

@@ -3,9 +3,11 @@
 #include <Kokkos_Core.hpp>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <sstream>
 
+#include "host/checkpoint.hpp"
 #include "kernels/energy.hpp"
 #include "kernels/fragments.hpp"
 #include "kernels/integrate.hpp"
@@ -413,62 +415,20 @@ FrameData Simulation::frame(const std::vector<std::string>& fields) {
   return f;
 }
 
-// Calls f(model_view, snapshot_view) for every view a step mutates; the one list that
-// snapshot allocation, saving and restoring share.
-template <class F>
-void for_each_state_view(Nodes& n, Elements& e, Bonds& b, Nodes& sn, Elements& se, Bonds& sb,
-                         F&& f) {
-  f(n.x, sn.x);
-  f(n.v, sn.v);
-  f(n.f, sn.f);
-  f(n.f_ext, sn.f_ext);
-  f(e.stress, se.stress);
-  f(e.epeq, se.epeq);
-  f(e.qp_volume, se.qp_volume);
-  f(e.bulk_viscosity, se.bulk_viscosity);
-  f(e.hourglass_disp, se.hourglass_disp);
-  f(e.hourglass_force, se.hourglass_force);
-  f(e.strain_work, se.strain_work);
-  f(e.plastic_work, se.plastic_work);
-  f(e.hourglass_work, se.hourglass_work);
-  f(e.viscous_work, se.viscous_work);
-  f(e.active, se.active);
-  f(e.alive, se.alive);
-  f(n.particle, sn.particle);
-  f(n.rotation, sn.rotation);
-  f(n.spin, sn.spin);
-  f(n.moment, sn.moment);
-  f(n.contact_disc, sn.contact_disc);
-  f(n.radius, sn.radius);
-  f(e.cell_strain_offset, se.cell_strain_offset);
-  f(e.cell_stress, se.cell_stress);
-  f(e.cell_intact, se.cell_intact);
-  f(b.state, sb.state);
-  f(b.kn, sb.kn);
-  f(b.ks, sb.ks);
-  f(b.area, sb.area);
-  f(b.fn, sb.fn);
-  f(b.fs, sb.fs);
-  f(b.plastic_n, sb.plastic_n);
-  f(b.plastic_s, sb.plastic_s);
-  f(b.hardening, sb.hardening);
-  f(b.plastic_work, sb.plastic_work);
+StateViews Simulation::state_views() {
+  return {model_.nodes, model_.elements, model_.bonds, model_.converted, contact_force_prev_};
 }
 
 void Simulation::save_snapshot() {
   const bool first = snapshot_.steps < 0;
-  if (first) {
-    snapshot_.nodes = model_.nodes;
-    snapshot_.elements = model_.elements;
-    snapshot_.bonds = model_.bonds;
-  }
-  for_each_state_view(model_.nodes, model_.elements, model_.bonds, snapshot_.nodes,
-                      snapshot_.elements, snapshot_.bonds, [first](const auto& live, auto& saved) {
-                        if (first)
-                          saved = clone(live);
-                        else
-                          Kokkos::deep_copy(saved, live);
-                      });
+  StateViews live = state_views();
+  if (first) snapshot_.views = live;
+  for_each_state_view(live, snapshot_.views, [first](const char*, const auto& from, auto& saved) {
+    if (first)
+      saved = clone(from);
+    else
+      Kokkos::deep_copy(saved, from);
+  });
   snapshot_.time = time_;
   snapshot_.dt = dt_;
   snapshot_.dt_bound = dt_bound_;
@@ -481,14 +441,16 @@ void Simulation::save_snapshot() {
   snapshot_.conversions = conversions_;
   snapshot_.rigid = model_.rigid;
   snapshot_.broken_bonds = broken_bonds_;
+  snapshot_.touching = touching_;
   snapshot_.active_elements = model_.elements.active_count;
   snapshot_.steps = steps_;
 }
 
 void Simulation::restore_snapshot() {
-  for_each_state_view(model_.nodes, model_.elements, model_.bonds, snapshot_.nodes,
-                      snapshot_.elements, snapshot_.bonds,
-                      [](const auto& live, const auto& saved) { Kokkos::deep_copy(live, saved); });
+  StateViews live = state_views();
+  for_each_state_view(live, snapshot_.views, [](const char*, const auto& to, const auto& saved) {
+    Kokkos::deep_copy(to, saved);
+  });
   time_ = snapshot_.time;
   dt_ = snapshot_.dt;
   dt_bound_ = snapshot_.dt_bound;
@@ -502,6 +464,7 @@ void Simulation::restore_snapshot() {
   model_.rigid = snapshot_.rigid;
   if (model_.contacts) model_.contacts->invalidate();
   broken_bonds_ = snapshot_.broken_bonds;
+  touching_ = snapshot_.touching;
   model_.elements.active_count = snapshot_.active_elements;
   steps_ = snapshot_.steps;
 }
@@ -509,8 +472,21 @@ void Simulation::restore_snapshot() {
 int run_case(const Case& c, const RunOptions& opt) {
   using clock = std::chrono::steady_clock;
   const auto wall0 = clock::now();
+  const bool restart = !opt.restart_path.empty();
+  // A restart checks the checkpoint and the case before building anything, and never writes
+  // over the output the checkpoint's run wrote (prepare_restart).
+  const std::string path = restart ? prepare_restart(c, opt.restart_path, opt.output_path)
+                           : opt.output_path.empty() ? c.output.file
+                                                     : opt.output_path;
   Simulation sim(c);
-  const std::string path = opt.output_path.empty() ? c.output.file : opt.output_path;
+  if (restart) {
+    const auto read0 = clock::now();
+    read_checkpoint_state(sim, opt.restart_path);
+    sim.save_snapshot();
+    std::fprintf(stdout, "fracta: restarted from %s at t = %.6g s (step %ld), read in %.3f s\n",
+                 opt.restart_path.c_str(), sim.time(), sim.steps(),
+                 std::chrono::duration<double>(clock::now() - read0).count());
+  }
   RunInfo info;
   info.version = FRACTA_VERSION;
   info.backend = ExecSpace::name();
@@ -534,14 +510,35 @@ int run_case(const Case& c, const RunOptions& opt) {
   };
 
   const double end = c.sim.end_time;
+  const double eps = 1e-12 * end;
   const double frame_every = c.sim.output_interval > 0 ? c.sim.output_interval : end;
   const double history_every = c.sim.history_interval;
-  double next_frame = frame_every, next_history = history_every;
+  const double checkpoint_every = c.output.checkpoint_interval;
+  // Output instants: k * interval, accumulated by repeated addition. A restart replays the
+  // additions up to its time, so it lands on the very same instants as the uninterrupted run.
+  double next_frame = frame_every, next_history = history_every, next_checkpoint = checkpoint_every;
+  auto advance = [&](double& next, double every) {
+    while (every > 0 && next <= sim.time() + eps) next += every;
+  };
+  advance(next_frame, frame_every);
+  advance(next_history, history_every);
+  advance(next_checkpoint, checkpoint_every);
   HistoryRecord last = record();
   out.write_frame(sim.frame(c.output.fields));
+  long last_frame_step = sim.steps(), last_checkpoint_step = -1;
   const long snapshot_every = 100;
+  const std::string checkpoint_path = checkpoint_path_for(path);
+  auto checkpoint = [&]() {
+    out.flush();  // the output holds every history row up to the checkpoint
+    const CheckpointInfo ci{FRACTA_VERSION, c.text,     c.path,     c.overrides,
+                            path,           sim.time(), sim.steps()};
+    write_checkpoint(sim, checkpoint_path, ci);
+    last_checkpoint_step = sim.steps();
+  };
+  const StopSignals stop_signals;
 
   double last_print = 0.0;
+  const long first_step = sim.steps();  // > 0 on a restart
   auto progress = [&](bool final_line) {
     const double wall = std::chrono::duration<double>(clock::now() - wall0).count();
     if (!final_line) {
@@ -549,7 +546,7 @@ int run_case(const Case& c, const RunOptions& opt) {
       if (wall - last_print < interval) return;
     }
     last_print = wall;
-    const double rate = sim.steps() / std::max(wall, 1e-9);
+    const double rate = (sim.steps() - first_step) / std::max(wall, 1e-9);
     const double remaining_steps = sim.dt() > 0 ? (end - sim.time()) / sim.dt() : 0.0;
     char line[256];
     std::snprintf(line, sizeof line,
@@ -565,22 +562,28 @@ int run_case(const Case& c, const RunOptions& opt) {
     std::fflush(stdout);
   };
 
-  const double eps = 1e-12 * end;
   while (sim.time() < end - eps && !sim.failed()) {
     sim.step();
     if (sim.failed()) break;
     const bool at_end = sim.time() >= end - eps;
     if (history_every <= 0 || sim.time() >= next_history - eps || at_end) {
       last = record();
-      while (history_every > 0 && next_history <= sim.time() + eps) next_history += history_every;
+      advance(next_history, history_every);
       if (sim.failed()) break;
     }
     if (sim.time() >= next_frame - eps || at_end) {
       out.write_frame(sim.frame(c.output.fields));
-      while (next_frame <= sim.time() + eps) next_frame += frame_every;
+      last_frame_step = sim.steps();
+      advance(next_frame, frame_every);
+    }
+    // A final checkpoint too: a restart may extend end_time.
+    if (checkpoint_every > 0 && (sim.time() >= next_checkpoint - eps || at_end)) {
+      checkpoint();
+      advance(next_checkpoint, checkpoint_every);
     }
     if (sim.steps() % snapshot_every == 0) sim.save_snapshot();
     progress(false);
+    if (StopSignals::received()) break;
   }
   const double wall = std::chrono::duration<double>(clock::now() - wall0).count();
   if (sim.failed()) {
@@ -594,6 +597,22 @@ int run_case(const Case& c, const RunOptions& opt) {
                  "step %ld) to %s\n",
                  why.c_str(), sim.time(), sim.steps(), path.c_str());
     return 3;
+  }
+  if (const int signal = StopSignals::received()) {
+    // Stopped between two steps: the state is consistent. Keep it (checkpoint) and end the
+    // output with it (final frame), closed and flushed.
+    if (last_checkpoint_step != sim.steps()) checkpoint();
+    if (last_frame_step != sim.steps()) out.write_frame(sim.frame(c.output.fields));
+    const char* name = signal == SIGINT ? "SIGINT" : "SIGTERM";
+    out.finish(sim.steps(), wall, std::string("interrupted by ") + name);
+    if (opt.progress_on_terminal) std::fprintf(stdout, "\n");
+    std::fprintf(stderr,
+                 "fracta: interrupted by %s at t = %.6g s (step %ld)\nfracta: wrote the checkpoint "
+                 "%s and the output %s (%d frames, the last one is this state)\nfracta: continue "
+                 "with: fracta run %s --restart %s\n",
+                 name, sim.time(), sim.steps(), checkpoint_path.c_str(), path.c_str(),
+                 out.frames_written(), c.path.c_str(), checkpoint_path.c_str());
+    return 128 + signal;
   }
   progress(true);
   out.finish(sim.steps(), wall, "completed");

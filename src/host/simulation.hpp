@@ -6,6 +6,7 @@
 
 #include "host/model.hpp"
 #include "host/output.hpp"
+#include "host/state_views.hpp"
 #include "kernels/fragments.hpp"
 
 namespace fracta {
@@ -39,6 +40,9 @@ class Simulation {
   const Model& model() const { return model_; }
 
  private:
+  friend struct CheckpointIO;  // src/host/checkpoint.cpp reads and writes the complete state
+  // The live views of the state a step mutates (state_views.hpp).
+  StateViews state_views();
   double next_dt() const;
   // Zeroed forces in, all internal forces out (FE, bonds); returns the stable bound (s).
   double evaluate_forces(double dt);
@@ -60,27 +64,28 @@ class Simulation {
   View<double*[3]> contact_force_, contact_force_prev_;  // contact's own (fx, fy, moment)
 
   struct Snapshot {
-    Nodes nodes;
-    Elements elements;
-    Bonds bonds;
+    StateViews views;
     double time = 0, dt = 0, dt_bound = 0, external_work = 0, fracture_energy = 0;
     double contact_dissipated = 0, contact_elastic = 0, conversion_energy = 0;
     int converted_count = 0;
     long conversions = 0;
     std::vector<RigidBody> rigid;
-    long broken_bonds = 0, steps = -1;
+    long broken_bonds = 0, steps = -1, touching = 0;
     int active_elements = 0;
   } snapshot_;
 };
 
 struct RunOptions {
   std::string output_path;           // empty: the case's output.file
+  std::string restart_path;          // a checkpoint to continue from (empty: start at t = 0)
   bool progress_on_terminal = true;  // a live progress line; plain log lines otherwise
   double log_interval_seconds = 10.0;
 };
 
 // Runs a case to its end_time with output. Returns the process exit code: 0 completed,
-// 3 numerical failure (after writing the last good state). Throws InputError for bad input.
+// 3 numerical failure (after writing the last good state), 130 / 143 stopped by SIGINT /
+// SIGTERM (after writing a checkpoint and a final frame). Throws InputError for bad input
+// (including an unreadable or incompatible restart checkpoint).
 int run_case(const Case& c, const RunOptions& opt);
 
 }  // namespace fracta

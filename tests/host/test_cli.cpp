@@ -11,30 +11,15 @@
 #include <sstream>
 #include <string>
 
+#include "cli_util.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code = -1;
-  std::string out;  // stdout + stderr
-};
-
-Result run(const std::string& args) {
-  const std::string cmd = std::string(FRACTA_EXE) + " " + args + " 2>&1";
-  Result r;
-  FILE* p = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string data(const std::string& rel) {
-  return std::string(FRACTA_SOURCE_DIR) + "/tests/data/" + rel;
-}
+using fracta_test::data;
+using fracta_test::Result;
+using fracta_test::run;
 
 // The line number a bad case file announces for its error: its own parser test knows it; here
 // every malformed file must give exit code 2 and a message that starts with its path and a line.

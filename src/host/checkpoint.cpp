@@ -1,0 +1,467 @@
+#include "host/checkpoint.hpp"
+
+#include <fcntl.h>
+#include <hdf5.h>
+#include <unistd.h>
+
+#include <Kokkos_Core.hpp>
+#include <cerrno>
+#include <csignal>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+#include <type_traits>
+
+#include "host/case.hpp"
+#include "host/simulation.hpp"
+#include "host/state_views.hpp"
+
+namespace fracta {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kFormat = "fracta checkpoint";
+constexpr std::int64_t kFormatVersion = 1;
+
+// Owns one HDF5 identifier.
+class H5Handle {
+ public:
+  H5Handle(hid_t id, herr_t (*close)(hid_t), const std::string& what) : id_(id), close_(close) {
+    if (id_ < 0) throw std::runtime_error(what);
+  }
+  ~H5Handle() {
+    if (id_ >= 0) close_(id_);
+  }
+  H5Handle(const H5Handle&) = delete;
+  H5Handle& operator=(const H5Handle&) = delete;
+  hid_t get() const { return id_; }
+  // Closes now and reports failure (a close is where HDF5 writes the last metadata).
+  void close(const std::string& what) {
+    const herr_t rc = close_(id_);
+    id_ = H5I_INVALID_HID;
+    if (rc < 0) throw std::runtime_error(what);
+  }
+
+ private:
+  hid_t id_;
+  herr_t (*close_)(hid_t);
+};
+
+void check(herr_t rc, const std::string& what) {
+  if (rc < 0) throw std::runtime_error(what);
+}
+
+template <class T>
+hid_t mem_type() {
+  if constexpr (std::is_same_v<T, double>) return H5T_NATIVE_DOUBLE;
+  if constexpr (std::is_same_v<T, int>) return H5T_NATIVE_INT;
+  if constexpr (std::is_same_v<T, std::int64_t>) return H5T_NATIVE_INT64;
+}
+
+template <class T>
+hid_t file_type() {
+  if constexpr (std::is_same_v<T, double>) return H5T_IEEE_F64LE;
+  if constexpr (std::is_same_v<T, int>) return H5T_STD_I32LE;
+  if constexpr (std::is_same_v<T, std::int64_t>) return H5T_STD_I64LE;
+}
+
+template <class T>
+void write_attribute(hid_t obj, const char* name, const T& value) {
+  const std::string what = std::string("checkpoint: cannot write attribute ") + name;
+  H5Handle space(H5Screate(H5S_SCALAR), H5Sclose, what);
+  if constexpr (std::is_same_v<T, std::string>) {
+    H5Handle type(H5Tcopy(H5T_C_S1), H5Tclose, what);
+    check(H5Tset_size(type.get(), H5T_VARIABLE), what);
+    check(H5Tset_cset(type.get(), H5T_CSET_UTF8), what);
+    H5Handle attr(H5Acreate2(obj, name, type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+                  H5Aclose, what);
+    const char* p = value.c_str();
+    check(H5Awrite(attr.get(), type.get(), &p), what);
+  } else {
+    H5Handle attr(H5Acreate2(obj, name, file_type<T>(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+                  H5Aclose, what);
+    check(H5Awrite(attr.get(), mem_type<T>(), &value), what);
+  }
+}
+
+template <class T>
+T read_attribute(hid_t obj, const char* name) {
+  const std::string what = std::string("cannot read attribute ") + name;
+  H5Handle attr(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose, what);
+  if constexpr (std::is_same_v<T, std::string>) {
+    H5Handle type(H5Tcopy(H5T_C_S1), H5Tclose, what);
+    check(H5Tset_size(type.get(), H5T_VARIABLE), what);
+    check(H5Tset_cset(type.get(), H5T_CSET_UTF8), what);
+    char* p = nullptr;
+    check(H5Aread(attr.get(), type.get(), &p), what);
+    std::string s = p ? p : "";
+    H5free_memory(p);
+    return s;
+  } else {
+    T value{};
+    check(H5Aread(attr.get(), mem_type<T>(), &value), what);
+    return value;
+  }
+}
+
+template <class T>
+void write_dataset(hid_t loc, const std::string& name, const std::vector<hsize_t>& dims,
+                   const std::vector<T>& values) {
+  const std::string what = "checkpoint: cannot write " + name;
+  H5Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose,
+                 what);
+  H5Handle ds(H5Dcreate2(loc, name.c_str(), file_type<T>(), space.get(), H5P_DEFAULT, H5P_DEFAULT,
+                         H5P_DEFAULT),
+              H5Dclose, what);
+  if (!values.empty())
+    check(H5Dwrite(ds.get(), mem_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), what);
+}
+
+// Reads dataset `name`, which must have the shape `dims`.
+template <class T>
+std::vector<T> read_dataset(hid_t loc, const std::string& name, const std::vector<hsize_t>& dims) {
+  const std::string what = "cannot read dataset " + name;
+  if (H5Lexists(loc, name.c_str(), H5P_DEFAULT) <= 0)
+    throw std::runtime_error("dataset " + name + " is missing");
+  H5Handle ds(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), H5Dclose, what);
+  H5Handle space(H5Dget_space(ds.get()), H5Sclose, what);
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  std::vector<hsize_t> got(rank > 0 ? rank : 0);
+  if (rank < 0 || H5Sget_simple_extent_dims(space.get(), got.data(), nullptr) < 0)
+    throw std::runtime_error(what);
+  if (got != dims) {
+    std::ostringstream msg;
+    msg << "dataset " << name << " has shape (";
+    for (size_t k = 0; k < got.size(); ++k) msg << (k ? ", " : "") << got[k];
+    msg << "), the model needs (";
+    for (size_t k = 0; k < dims.size(); ++k) msg << (k ? ", " : "") << dims[k];
+    msg << ")";
+    throw std::runtime_error(msg.str());
+  }
+  size_t n = 1;
+  for (hsize_t d : dims) n *= d;
+  std::vector<T> values(n);
+  if (n > 0)
+    check(H5Dread(ds.get(), mem_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), what);
+  return values;
+}
+
+template <class V>
+std::vector<hsize_t> dims_of(const V& v) {
+  std::vector<hsize_t> dims{v.extent(0)};
+  if constexpr (static_cast<int>(V::rank) == 2) dims.push_back(v.extent(1));
+  return dims;
+}
+
+// A view as a row-major host array, whatever the device layout.
+template <class V>
+void write_view(hid_t loc, const std::string& name, const V& v) {
+  using T = typename V::non_const_value_type;
+  static_assert(static_cast<int>(V::rank) == 1 || static_cast<int>(V::rank) == 2);
+  auto h = Kokkos::create_mirror_view_and_copy(HostSpace(), v);
+  std::vector<T> flat;
+  flat.reserve(h.size());
+  for (size_t i = 0; i < h.extent(0); ++i) {
+    if constexpr (static_cast<int>(V::rank) == 1) {
+      flat.push_back(h(i));
+    } else {
+      for (size_t j = 0; j < h.extent(1); ++j) flat.push_back(h(i, j));
+    }
+  }
+  write_dataset(loc, name, dims_of(v), flat);
+}
+
+template <class V>
+void read_view(hid_t loc, const std::string& name, const V& v) {
+  using T = typename V::non_const_value_type;
+  const std::vector<T> flat = read_dataset<T>(loc, name, dims_of(v));
+  auto h = Kokkos::create_mirror_view(v);
+  size_t k = 0;
+  for (size_t i = 0; i < h.extent(0); ++i) {
+    if constexpr (static_cast<int>(V::rank) == 1) {
+      h(i) = flat[k++];
+    } else {
+      for (size_t j = 0; j < h.extent(1); ++j) h(i, j) = flat[k++];
+    }
+  }
+  Kokkos::deep_copy(v, h);
+}
+
+std::string join_lines(const std::vector<std::string>& lines) {
+  std::string s;
+  for (const std::string& l : lines) s += l + "\n";
+  return s;
+}
+
+std::vector<std::string> split_lines(const std::string& s) {
+  std::vector<std::string> lines;
+  std::istringstream in(s);
+  std::string l;
+  while (std::getline(in, l)) lines.push_back(l);
+  return lines;
+}
+
+// fsync of a file or directory; a failure means the data may not be on disk.
+void sync_path(const std::string& path, int flags) {
+  const int fd = ::open(path.c_str(), flags);
+  if (fd < 0 || ::fsync(fd) != 0) {
+    const std::string why = std::strerror(errno);
+    if (fd >= 0) ::close(fd);
+    throw std::runtime_error("checkpoint: cannot sync " + path + ": " + why);
+  }
+  ::close(fd);
+}
+
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+extern "C" void on_stop_signal(int signal) {
+  g_stop_signal = signal;
+}
+
+}  // namespace
+
+// Friend of Simulation: the host-side state that is not a view.
+struct CheckpointIO {
+  // Calls f(name, value&) for every Simulation scalar that a step reads or writes.
+  template <class F>
+  static void scalars(Simulation& s, F&& f) {
+    f("time", s.time_);
+    f("dt", s.dt_);
+    f("dt_bound", s.dt_bound_);
+    f("dt_initial", s.dt_initial_);
+    f("steps", s.steps_);
+    f("external_work", s.external_work_);
+    f("initial_energy", s.initial_energy_);
+    f("bond_dt_bound", s.bond_dt_bound_);
+    f("fracture_energy", s.fracture_energy_);
+    f("energy_floor", s.energy_floor_);
+    f("broken_bonds", s.broken_bonds_);
+    f("touching", s.touching_);
+    f("contact_elastic", s.contact_elastic_);
+    f("contact_dissipated", s.contact_dissipated_);
+    f("conversion_energy", s.conversion_energy_);
+    f("conversions", s.conversions_);
+    f("conversions_this_step", s.conversions_this_step_);
+    f("converted_count", s.model_.converted_count);
+    f("active_elements", s.model_.elements.active_count);
+  }
+
+  static void write(Simulation& s, hid_t file) {
+    StateViews live = s.state_views();
+    H5Handle state(H5Gcreate2(file, "state", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+                   "checkpoint: cannot create /state");
+    for_each_state_view(live, live, [&](const char* name, const auto& v, const auto&) {
+      write_view(state.get(), name, v);
+    });
+    H5Handle scalar_group(H5Gcreate2(file, "scalars", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                          H5Gclose, "checkpoint: cannot create /scalars");
+    scalars(s, [&](const char* name, auto& value) {
+      using T = std::decay_t<decltype(value)>;
+      if constexpr (std::is_same_v<T, double>)
+        write_attribute(scalar_group.get(), name, value);
+      else
+        write_attribute(scalar_group.get(), name, static_cast<std::int64_t>(value));
+    });
+    std::vector<double> rigid;
+    for (const RigidBody& b : s.model_.rigid)
+      rigid.insert(rigid.end(), {b.x, b.y, b.theta, b.vx, b.vy, b.omega});
+    write_dataset<double>(file, "rigid", {s.model_.rigid.size(), 6}, rigid);
+    if (s.model_.contacts) {
+      const ContactSystem::ListState cs = s.model_.contacts->list_state();
+      H5Handle g(H5Gcreate2(file, "contact", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+                 "checkpoint: cannot create /contact");
+      write_dataset<int>(g.get(), "pair_i", {cs.pair_i.size()}, cs.pair_i);
+      write_dataset<int>(g.get(), "pair_j", {cs.pair_j.size()}, cs.pair_j);
+      write_dataset<double>(g.get(), "x_build", {cs.x_build.size() / 2, 2}, cs.x_build);
+      write_attribute(g.get(), "built", static_cast<std::int64_t>(cs.built));
+      write_attribute(g.get(), "rebuilds", static_cast<std::int64_t>(cs.rebuilds));
+    }
+  }
+
+  static void read(Simulation& s, hid_t file) {
+    StateViews live = s.state_views();
+    H5Handle state(H5Gopen2(file, "state", H5P_DEFAULT), H5Gclose, "group /state is missing");
+    for_each_state_view(live, live, [&](const char* name, const auto& v, const auto&) {
+      read_view(state.get(), name, v);
+    });
+    H5Handle scalar_group(H5Gopen2(file, "scalars", H5P_DEFAULT), H5Gclose,
+                          "group /scalars is missing");
+    scalars(s, [&](const char* name, auto& value) {
+      using T = std::decay_t<decltype(value)>;
+      if constexpr (std::is_same_v<T, double>)
+        value = read_attribute<double>(scalar_group.get(), name);
+      else
+        value = static_cast<T>(read_attribute<std::int64_t>(scalar_group.get(), name));
+    });
+    std::vector<RigidBody>& bodies = s.model_.rigid;
+    const std::vector<double> rigid = read_dataset<double>(file, "rigid", {bodies.size(), 6});
+    for (size_t k = 0; k < bodies.size(); ++k) {
+      RigidBody& b = bodies[k];
+      const double* r = &rigid[6 * k];
+      b.x = r[0], b.y = r[1], b.theta = r[2], b.vx = r[3], b.vy = r[4], b.omega = r[5];
+    }
+    if (s.model_.contacts) {
+      ContactSystem& contacts = *s.model_.contacts;
+      H5Handle g(H5Gopen2(file, "contact", H5P_DEFAULT), H5Gclose, "group /contact is missing");
+      ContactSystem::ListState cs;
+      H5Handle pairs(H5Dopen2(g.get(), "pair_i", H5P_DEFAULT), H5Dclose, "cannot open pair_i");
+      H5Handle space(H5Dget_space(pairs.get()), H5Sclose, "cannot read pair_i");
+      const hsize_t count = static_cast<hsize_t>(H5Sget_simple_extent_npoints(space.get()));
+      cs.pair_i = read_dataset<int>(g.get(), "pair_i", {count});
+      cs.pair_j = read_dataset<int>(g.get(), "pair_j", {count});
+      const hsize_t discs = static_cast<hsize_t>(contacts.disc_count());
+      cs.x_build = read_dataset<double>(g.get(), "x_build", {discs, 2});
+      cs.built = read_attribute<std::int64_t>(g.get(), "built") != 0;
+      cs.rebuilds = static_cast<long>(read_attribute<std::int64_t>(g.get(), "rebuilds"));
+      for (size_t p = 0; p < count; ++p)
+        if (cs.pair_i[p] < 0 || cs.pair_j[p] < 0 || cs.pair_i[p] >= s.model_.nodes.count ||
+            cs.pair_j[p] >= s.model_.nodes.count)
+          throw std::runtime_error("contact pair " + std::to_string(p) +
+                                   " holds a node id out of range");
+      contacts.restore_list_state(cs);
+    }
+    // The active list and counts must agree, or a kernel would read out of bounds.
+    const int active = s.model_.elements.active_count, converted = s.model_.converted_count;
+    if (active < 0 || active > s.model_.elements.count || converted < 0 ||
+        converted > static_cast<int>(s.model_.converted.extent(0)))
+      throw std::runtime_error("element counts out of range");
+    // The next step as the uninterrupted run computes it, for the restart's end_time (the
+    // stored dt was shortened if the checkpoint's run ended at this time).
+    s.dt_ = s.next_dt();
+  }
+};
+
+std::string checkpoint_path_for(const std::string& output_path) {
+  fs::path p(output_path);
+  if (p.extension() == ".h5") p.replace_extension();
+  return p.string() + ".ckpt.h5";
+}
+
+void write_checkpoint(Simulation& sim, const std::string& path, const CheckpointInfo& info) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become exceptions, not stderr dumps
+  const std::string tmp = path + ".tmp";
+  {
+    H5Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
+                  "checkpoint: cannot create " + tmp);
+    const hid_t root = file.get();
+    write_attribute(root, "format", std::string(kFormat));
+    write_attribute(root, "format_version", kFormatVersion);
+    write_attribute(root, "version", info.version);
+    write_attribute(root, "case", info.case_text);
+    write_attribute(root, "case_path", info.case_path);
+    write_attribute(root, "overrides", join_lines(info.overrides));
+    write_attribute(root, "output_path", info.output_path);
+    write_attribute(root, "time", info.time);
+    write_attribute(root, "steps", static_cast<std::int64_t>(info.steps));
+    CheckpointIO::write(sim, root);
+    file.close("checkpoint: cannot close " + tmp);
+  }
+  // Durable before it replaces the previous checkpoint: after a crash PATH holds one complete
+  // checkpoint, the old or the new.
+  sync_path(tmp, O_RDONLY);
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw std::runtime_error("checkpoint: cannot rename " + tmp + " to " + path + ": " +
+                             std::strerror(errno));
+  fs::path dir = fs::path(path).parent_path();
+  sync_path(dir.empty() ? "." : dir.string(), O_RDONLY | O_DIRECTORY);
+}
+
+namespace {
+
+// Opens a checkpoint for reading; InputError when it is not one.
+hid_t open_checkpoint(const std::string& path) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw InputError(path, 0, "restart", "the checkpoint file does not exist");
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0)
+    throw InputError(path, 0, "restart",
+                     "cannot open the checkpoint as HDF5 (truncated or corrupt file?)");
+  return file;
+}
+
+}  // namespace
+
+CheckpointInfo read_checkpoint_info(const std::string& path) {
+  H5Handle file(open_checkpoint(path), H5Fclose, "");
+  const hid_t root = file.get();
+  CheckpointInfo info;
+  try {
+    if (read_attribute<std::string>(root, "format") != kFormat)
+      throw std::runtime_error("not a fracta checkpoint");
+    const std::int64_t version = read_attribute<std::int64_t>(root, "format_version");
+    if (version != kFormatVersion)
+      throw std::runtime_error("checkpoint format version " + std::to_string(version) +
+                               ", this fracta reads version " + std::to_string(kFormatVersion));
+    info.version = read_attribute<std::string>(root, "version");
+    info.case_text = read_attribute<std::string>(root, "case");
+    info.case_path = read_attribute<std::string>(root, "case_path");
+    info.overrides = split_lines(read_attribute<std::string>(root, "overrides"));
+    info.output_path = read_attribute<std::string>(root, "output_path");
+    info.time = read_attribute<double>(root, "time");
+    info.steps = static_cast<long>(read_attribute<std::int64_t>(root, "steps"));
+  } catch (const std::runtime_error& e) {
+    throw InputError(path, 0, "restart", std::string("not a valid fracta checkpoint: ") + e.what());
+  }
+  return info;
+}
+
+void read_checkpoint_state(Simulation& sim, const std::string& path) {
+  H5Handle file(open_checkpoint(path), H5Fclose, "");
+  try {
+    CheckpointIO::read(sim, file.get());
+  } catch (const std::runtime_error& e) {
+    throw InputError(path, 0, "restart",
+                     std::string("the checkpoint does not match the model: ") + e.what());
+  }
+}
+
+std::string prepare_restart(const Case& c, const std::string& checkpoint_path,
+                            const std::string& requested_output) {
+  const CheckpointInfo info = read_checkpoint_info(checkpoint_path);
+  const Case stored = parse_case(info.case_text, info.case_path, info.overrides);
+  check_restart_compatible(stored, c);
+  std::string target = requested_output.empty() ? c.output.file : requested_output;
+  std::error_code ec1, ec2;
+  const bool same = fs::weakly_canonical(target, ec1) ==
+                    fs::weakly_canonical(info.output_path.empty() ? "." : info.output_path, ec2);
+  if (same && !ec1 && !ec2) {
+    if (!requested_output.empty())
+      throw InputError(checkpoint_path, 0, "restart",
+                       "-o " + target +
+                           " is the output of the run that wrote this checkpoint; a restart never "
+                           "overwrites it: choose another output path");
+    fs::path p(target);
+    if (p.extension() == ".h5") p.replace_extension();
+    target = p.string() + ".restart.h5";
+  }
+  return target;
+}
+
+StopSignals::StopSignals() {
+  g_stop_signal = 0;
+  struct sigaction sa;
+  std::memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESETHAND;
+  sigaction(SIGINT, &sa, &old_int_);
+  sigaction(SIGTERM, &sa, &old_term_);
+}
+
+StopSignals::~StopSignals() {
+  sigaction(SIGINT, &old_int_, nullptr);
+  sigaction(SIGTERM, &old_term_, nullptr);
+}
+
+int StopSignals::received() {
+  return g_stop_signal;
+}
+
+}  // namespace fracta
