@@ -17,8 +17,14 @@ def machine_info():
     except OSError:
         pass
     try:
-        commit = subprocess.run(["git", "-C", root, "describe", "--always", "--dirty"],
+        commit = subprocess.run(["git", "-C", root, "describe", "--always"],
                                 capture_output=True, text=True, check=True).stdout.strip()
+        # Dirty only if the measured code differs from the commit (the results and the doc
+        # this run rewrites do not count).
+        changed = subprocess.run(["git", "-C", root, "diff", "--quiet", "HEAD", "--", "src",
+                                  "CMakeLists.txt", "bench/*.cpp", "bench/*.hpp", "cases"])
+        if changed.returncode != 0:
+            commit += "-dirty"
     except (OSError, subprocess.CalledProcessError):
         commit = "unknown"
     try:
