@@ -149,12 +149,14 @@ def plot(rows, err_keys, labels, group_key, title, path):
     fig, axes = plt.subplots(1, len(err_keys), figsize=(5.2 * len(err_keys), 4.4))
     groups = sorted({r[group_key] for r in rows})
     markers = "osD^v<>p*"
+    coarsest = max(r["cell_mm"] for r in rows)
+    size = lambda r: 12 * (coarsest / r["cell_mm"]) ** 1.5  # noqa: E731 (finer cell: larger)
     for ax, key, label in zip(axes, err_keys, labels):
         ok = [r for r in rows if r["status"] == 0 and np.isfinite(r[key])]
         for g, m in zip(groups, markers):
             pts = [r for r in ok if r[group_key] == g]
             ax.scatter([r["wall_s"] for r in pts], [max(r[key], 1e-5) * 100 for r in pts],
-                       marker=m, label=str(g), alpha=0.75)
+                       s=[size(r) for r in pts], marker=m, label=str(g), alpha=0.75)
         front = pareto([(r["wall_s"], r[key]) for r in ok])
         fr = sorted((ok[i] for i in front), key=lambda r: r["wall_s"])
         ax.step([r["wall_s"] for r in fr], [max(r[key], 1e-5) * 100 for r in fr], "k-",
@@ -165,7 +167,7 @@ def plot(rows, err_keys, labels, group_key, title, path):
         ax.set_ylabel(label + " error (%)")
         ax.grid(True, which="both", alpha=0.3)
     axes[0].legend(fontsize=8)
-    fig.suptitle(title)
+    fig.suptitle(title + " (marker size grows as the cell size falls)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
