@@ -221,7 +221,10 @@ void Simulation::step() {
   const Case& c = model_.scene;
   Model& m = model_;
   ProfilingRegion region("fracta::step");
-  external_work_ += kick_drift(m.nodes, dt_);
+  {
+    ProfilingRegion integrate("fracta::integrate");
+    external_work_ += kick_drift(m.nodes, dt_);
+  }
   for (RigidBody& b : m.rigid) {
     project_rigid(b, m.nodes);
     drift_rigid(b, m.nodes, m.rigid_offset, dt_);
@@ -230,7 +233,10 @@ void Simulation::step() {
   time_ += dt_;
   apply_loads(m.nodes, m.tables, m.pressure_edges, m.nodal_forces, c.sim.thickness, time_);
   dt_bound_ = evaluate_forces(dt_);
-  external_work_ += kick(m.nodes, dt_);
+  {
+    ProfilingRegion integrate("fracta::integrate");
+    external_work_ += kick(m.nodes, dt_);
+  }
   for (RigidBody& b : m.rigid) project_rigid(b, m.nodes);
   if (m.has_adaptive && (steps_ + 1) % c.sim.conversion_interval == 0) convert();
   ++steps_;

@@ -1,0 +1,250 @@
+// The project's throughput benchmark (issue 5, item 1): the penetration scene
+// (cases/penetration.toml) at refinement level L, for a fixed number of steps, with a per-phase
+// time split from the named profiling regions. One level per process, so the peak memory
+// (getrusage max RSS) is that level's; bench/run_penetration.sh runs levels 1, 2, 4, 8 with
+// OMP_NUM_THREADS=1 and 2 and merges the results into bench/results/penetration.{csv,json}.
+//
+// Refinement: cell size = base / L for both bodies, base = 0.4 mm by default (the case itself
+// uses 1.667 mm, ~1.1e3 nodes). Level 1: 18.6e3 nodes; level 8 (0.05 mm): 1.17e6 nodes.
+// Start of the timed window: the projectile is placed `gap` cells above the slab (default 1.02;
+// contact discs have radius h/2, so bodies touch at one cell), then `warmup` steps run untimed
+// (default 20: about half a cell of penetration at 200 m/s, contact and conversion active at
+// every level), then `steps` steps are timed. No restart file is needed.
+// Output inside the window follows run_case's cadence: history and probe records every
+// history_interval (to an HDF5 file in /tmp, deleted at the end), frames every output_interval
+// (none in a short window), the last-good-state snapshot every 100 steps.
+//
+// Usage: penetration --level L [--steps N] [--warmup W] [--base-cell H] [--gap CELLS]
+//                    [--case FILE] [--json FILE]
+// Prints one human-readable line and writes one JSON object (to --json or stdout).
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <Kokkos_Core.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "host/case.hpp"
+#include "host/output.hpp"
+#include "host/simulation.hpp"
+#include "region_timer.hpp"
+
+namespace {
+
+using namespace fracta;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+double peak_rss_mb() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_maxrss / 1024.0;  // Linux reports kB
+}
+
+// Default timed steps per level: small at high levels (level 8 has 1.2e6 nodes).
+long default_steps(int level) {
+  return level <= 1 ? 200 : level == 2 ? 100 : level == 4 ? 30 : 10;
+}
+
+struct Options {
+  int level = 1;
+  long steps = -1, warmup = 20;
+  double base_cell = 0.4e-3;  // m
+  double gap_cells = 1.02;
+  std::string case_path = "cases/penetration.toml";  // relative to the repository root
+  std::string json_path;
+};
+
+[[noreturn]] void usage(const char* why) {
+  std::fprintf(stderr,
+               "penetration: %s\nusage: penetration --level L [--steps N] [--warmup W] "
+               "[--base-cell H] [--gap CELLS] [--case FILE] [--json FILE]\n",
+               why);
+  std::exit(2);
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (i + 1 >= argc) usage(("missing value after " + a).c_str());
+    const char* v = argv[++i];
+    if (a == "--level")
+      o.level = std::atoi(v);
+    else if (a == "--steps")
+      o.steps = std::atol(v);
+    else if (a == "--warmup")
+      o.warmup = std::atol(v);
+    else if (a == "--base-cell")
+      o.base_cell = std::atof(v);
+    else if (a == "--gap")
+      o.gap_cells = std::atof(v);
+    else if (a == "--case")
+      o.case_path = v;
+    else if (a == "--json")
+      o.json_path = v;
+    else
+      usage(("unknown option " + a).c_str());
+  }
+  if (o.level < 1) usage("--level must be >= 1");
+  if (o.steps < 0) o.steps = default_steps(o.level);
+  return o;
+}
+
+std::string num(double x) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.6g", x);
+  return b;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  setenv("OMP_PROC_BIND", "spread", 0);
+  setenv("OMP_PLACES", "threads", 0);
+  Kokkos::ScopeGuard kokkos(argc, argv);
+  const Options o = parse(argc, argv);
+  bench::RegionTimer::install();
+
+  const double h = o.base_cell / o.level;
+  std::vector<std::string> set = {"simulation.end_time=1.0"};  // never reached
+  const Case probe_case = load_case(o.case_path);
+  double slab_top = 0.0;
+  for (size_t b = 0; b < probe_case.bodies.size(); ++b) {
+    set.push_back("body." + std::to_string(b) + ".cell_size=" + num(h));
+    if (probe_case.bodies[b].name == "slab")
+      slab_top = probe_case.bodies[b].shape.y + probe_case.bodies[b].shape.height;
+  }
+  for (const Body& b : probe_case.bodies)
+    if (b.name == "projectile" && o.gap_cells > 0)
+      set.push_back("body.projectile.shape.y=" + num(slab_top + o.gap_cells * h));
+  const Case c = load_case(o.case_path, set);
+
+  const auto t_setup = Clock::now();
+  Simulation sim(c);
+  const double setup_seconds = seconds_since(t_setup);
+  const double rss_after_setup = peak_rss_mb();
+
+  char tmpl[] = "/tmp/fracta_bench_XXXXXX";
+  const int fd = mkstemp(tmpl);
+  if (fd >= 0) close(fd);
+  const std::string out_path = std::string(tmpl) + ".h5";
+  RunInfo info;
+  info.version = FRACTA_VERSION;
+  info.backend = ExecSpace::name();
+  info.threads = ExecSpace().concurrency();
+  info.case_text = c.text;
+  info.case_path = c.path;
+  double output_seconds = 0.0;
+  {
+    OutputFile out(out_path, info);
+    for (const auto& p : sim.model().probes) out.declare_probe(p.name);
+    for (const auto& p : sim.model().body_probes) out.declare_body_probe(p.name);
+    const auto record = [&] {
+      out.append_history(sim.history());
+      const auto probes = sim.probe_records();
+      for (size_t k = 0; k < probes.size(); ++k)
+        out.append_probe(sim.model().probes[k].name, probes[k]);
+      const auto bprobes = sim.body_probe_records();
+      for (size_t k = 0; k < bprobes.size(); ++k)
+        out.append_body_probe(sim.model().body_probes[k].name, bprobes[k]);
+    };
+
+    for (long s = 0; s < o.warmup && !sim.failed(); ++s) sim.step();
+    const HistoryRecord h0 = sim.history();
+    const long conversions0 = sim.conversions();
+    bench::RegionTimer::reset();
+    const double eps = 1e-12;
+    double next_history = sim.time() + c.sim.history_interval;
+    double next_frame = sim.time() + (c.sim.output_interval > 0 ? c.sim.output_interval : 1.0);
+    const auto t_run = Clock::now();
+    long steps = 0;
+    for (; steps < o.steps && !sim.failed(); ++steps) {
+      sim.step();
+      const auto t_out = Clock::now();
+      if (c.sim.history_interval <= 0 || sim.time() >= next_history - eps) {
+        record();
+        while (c.sim.history_interval > 0 && next_history <= sim.time() + eps)
+          next_history += c.sim.history_interval;
+      }
+      if (sim.time() >= next_frame - eps) {
+        out.write_frame(sim.frame(c.output.fields));
+        next_frame += c.sim.output_interval;
+      }
+      if (sim.steps() % 100 == 0) sim.save_snapshot();
+      output_seconds += seconds_since(t_out);
+    }
+    const double run_seconds = seconds_since(t_run);
+    const auto totals = bench::RegionTimer::totals();
+    const HistoryRecord h1 = sim.history();
+    out.finish(sim.steps(), run_seconds, sim.failed() ? "failed" : "completed");
+
+    // Counts: the mean of the window's first and last state (they change with conversion).
+    const auto mean = [&](long a, long b) { return 0.5 * static_cast<double>(a + b); };
+    const double elements = mean(h0.count.elements, h1.count.elements);
+    const double particles = mean(h0.count.particles, h1.count.particles);
+    const double bonds = mean(h0.count.bonds, h1.count.bonds);
+    const double contacts = mean(h0.count.contacts, h1.count.contacts);
+    const double steps_per_s = steps / run_seconds;
+    const char* phases[] = {"fracta::fe_forces",      "fracta::bond_forces",
+                            "fracta::contact_search", "fracta::contact_forces",
+                            "fracta::integrate",      "fracta::conversion"};
+    const double step_seconds = bench::RegionTimer::get("fracta::step").seconds;
+    double phase_sum = 0.0;
+    for (const char* p : phases) phase_sum += bench::RegionTimer::get(p).seconds;
+
+    std::ostringstream js;
+    js << "{\"case\": \"" << c.path << "\", \"level\": " << o.level
+       << ", \"cell_size_m\": " << num(h) << ", \"threads\": " << ExecSpace().concurrency()
+       << ", \"nodes\": " << sim.model().nodes.count << ", \"active_elements\": " << elements
+       << ", \"particles\": " << particles << ", \"bonds\": " << bonds
+       << ", \"contacts\": " << contacts << ", \"warmup_steps\": " << o.warmup
+       << ", \"steps\": " << steps << ", \"dt_s\": " << num(sim.dt())
+       << ", \"conversions_in_window\": " << sim.conversions() - conversions0
+       << ", \"failed\": " << (sim.failed() ? "true" : "false")
+       << ", \"setup_s\": " << num(setup_seconds) << ", \"run_s\": " << num(run_seconds)
+       << ", \"steps_per_s\": " << num(steps_per_s)
+       << ", \"entity_steps_per_s\": " << num((elements + particles) * steps_per_s)
+       << ", \"bond_steps_per_s\": " << num(bonds * steps_per_s)
+       << ", \"rss_after_setup_mb\": " << num(rss_after_setup)
+       << ", \"peak_rss_mb\": " << num(peak_rss_mb()) << ", \"phase_s\": {";
+    for (const char* p : phases)
+      js << "\"" << (p + 8) << "\": " << num(bench::RegionTimer::get(p).seconds) << ", ";
+    js << "\"output\": " << num(output_seconds)
+       << ", \"other\": " << num(std::max(step_seconds - phase_sum, 0.0))
+       << "}, \"phase_calls\": {";
+    for (const char* p : phases)
+      js << "\"" << (p + 8) << "\": " << bench::RegionTimer::get(p).calls << ", ";
+    js << "\"step\": " << bench::RegionTimer::get("fracta::step").calls << "}}";
+    (void)totals;
+
+    std::fprintf(stderr,
+                 "level %d (h = %.4g mm), %d threads: %d nodes, %.0f elements, %.0f particles, "
+                 "%.0f bonds, %.0f contacts; setup %.2f s; %ld steps in %.3f s = %.1f steps/s; "
+                 "peak RSS %.0f MB\n",
+                 o.level, h * 1e3, ExecSpace().concurrency(), sim.model().nodes.count, elements,
+                 particles, bonds, contacts, setup_seconds, steps, run_seconds, steps_per_s,
+                 peak_rss_mb());
+    if (o.json_path.empty()) {
+      std::printf("%s\n", js.str().c_str());
+    } else {
+      std::ofstream f(o.json_path);
+      f << js.str() << "\n";
+    }
+  }
+  std::remove(out_path.c_str());
+  std::remove(tmpl);
+  const std::string xdmf = std::string(tmpl) + ".xdmf";
+  std::remove(xdmf.c_str());
+  return sim.failed() ? 3 : 0;
+}

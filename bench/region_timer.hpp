@@ -1,0 +1,76 @@
+// Wall time per named profiling region ("fracta::fe_forces", ...), taken in-process through
+// Kokkos' tools callbacks (Kokkos::Tools::Experimental::set_push_region_callback, present in
+// Kokkos 3.4 and 4.x), so no tool library has to be loaded.
+//
+// A region nested in itself counts once, for its outermost occurrence: "fracta::contact_search"
+// is pushed by Simulation::evaluate_forces around ContactSystem::update and again by
+// ContactSystem::rebuild; "fracta::contact_forces" likewise. `calls` counts outermost entries.
+// The callbacks fence, so on an asynchronous backend (CUDA) a region's time includes its
+// kernels; on OpenMP the fence is a no-op.
+#pragma once
+#include <Kokkos_Core.hpp>
+#include <chrono>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fracta::bench {
+
+struct RegionTotals {
+  double seconds = 0.0;  // s, outermost occurrences only
+  long calls = 0;
+};
+
+class RegionTimer {
+ public:
+  // Call after Kokkos is initialised.
+  static void install() {
+    Kokkos::Tools::Experimental::set_push_region_callback(&push);
+    Kokkos::Tools::Experimental::set_pop_region_callback(&pop);
+  }
+  // Detaches the callbacks (regions cost nothing again).
+  static void uninstall() {
+    Kokkos::Tools::Experimental::set_push_region_callback(nullptr);
+    Kokkos::Tools::Experimental::set_pop_region_callback(nullptr);
+    reset();
+  }
+  static void reset() {
+    state().totals.clear();
+    state().stack.clear();
+  }
+  static const std::map<std::string, RegionTotals>& totals() { return state().totals; }
+  static RegionTotals get(const std::string& name) {
+    const auto it = state().totals.find(name);
+    return it == state().totals.end() ? RegionTotals{} : it->second;
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  struct State {
+    std::vector<std::pair<std::string, Clock::time_point>> stack;
+    std::map<std::string, RegionTotals> totals;
+  };
+  static State& state() {
+    static State s;
+    return s;
+  }
+  static void push(const char* name) {
+    Kokkos::fence();
+    state().stack.emplace_back(name, Clock::now());
+  }
+  static void pop() {
+    Kokkos::fence();
+    State& s = state();
+    if (s.stack.empty()) return;  // popped a region pushed before install()/reset()
+    const auto [name, start] = s.stack.back();
+    s.stack.pop_back();
+    for (const auto& outer : s.stack)
+      if (outer.first == name) return;  // nested in itself: the outer occurrence counts
+    RegionTotals& t = s.totals[name];
+    t.seconds += std::chrono::duration<double>(Clock::now() - start).count();
+    ++t.calls;
+  }
+};
+
+}  // namespace fracta::bench

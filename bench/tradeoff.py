@@ -1,0 +1,286 @@
+#!/usr/bin/env python3
+"""The speed-accuracy trade, measured (issue 5, item 3). Runs `fracta run` over a grid of
+settings (one thread: the accuracy numbers are then bitwise reproducible, atomics add in a fixed
+order), reads the HDF5 output and writes, per study, a CSV and a Pareto plot (error against wall
+time) into the results directory.
+
+(a) plate: the paper's plate (Section 4.1; cases/plate_fe.toml, plate_case_a.toml,
+    plate_case_b.toml), cell size x method (fe, de, case A, case B) x dt_safety (0.3, 0.6, 0.9),
+    run to 8 us (the pulse has passed the last probe at 22.5 mm before the reflection from the
+    free edge comes back). Errors against the exact plane wave of the plane-stress plate:
+      wave speed   c = sqrt(E / (rho (1 - nu^2))) = 5717 m/s, from the half-plateau arrival
+                   times at two probes of the same domain (fe, de: 7.5 -> 22.5 mm; case A: each
+                   half, 7.5 -> 22.5 mm; case B: 3.75 -> 7.5 mm in FE and 15 -> 22.5 mm in DE);
+      plateau      v = p / (rho c) = 11.21 m/s, mean particle velocity over the middle 1.5 us
+                   of the 3 us pulse at each probe;
+      peak stress  500 MPa, the largest compressive sxx at each probe (includes the front's
+                   overshoot, which is what a user reading peak stress sees);
+    each error is the largest relative error over the case's probes (and domains).
+(b) penetration: cases/penetration.toml (80 us, the projectile still moving at the end), cell
+    size x concrete conversion_strain x hourglass form (viscous, stiffness). Reported: depth
+    (downward displacement of the projectile's centre of mass, less the 2 mm initial gap),
+    residual velocity (projectile's mass-averaged downward velocity at the end), converted
+    elements, largest relative energy error over the run; depth and velocity errors are
+    relative to the reference run: the finest cell size with the case's own settings
+    (conversion_strain 0.02, viscous hourglass control).
+
+Usage: /usr/bin/python3 bench/tradeoff.py [--fracta build/fracta] [--out bench/results]
+                                          [--study plate|penetration|all] [--quick]
+"""
+import argparse
+import csv
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+import h5py
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from benchmeta import machine_info  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+E, NU, RHO, P = 232e9, 0.3, 7800.0, 500e6
+C_PLANE = math.sqrt(E / (RHO * (1 - NU * NU)))
+V_PLANE = P / (RHO * C_PLANE)
+
+# Cells must divide the 15 mm and 30 mm region edges and put nodes on the probes.
+PLATE_CELLS_MM = [1.875, 1.25, 0.9375, 0.625, 0.46875]
+PLATE_METHODS = {
+    # name: (case file, overrides, probes, wave-speed probe pairs (x in m))
+    "fe": ("plate_fe.toml", ['body.plate.method="fe"'], ["a_x7_5mm", "b_x15mm", "c_x22_5mm"],
+           [("a_x7_5mm", "c_x22_5mm")]),
+    "de": ("plate_fe.toml", ['body.plate.method="de"'], ["a_x7_5mm", "b_x15mm", "c_x22_5mm"],
+           [("a_x7_5mm", "c_x22_5mm")]),
+    "case A": ("plate_case_a.toml", [], ["a", "a2", "b", "b2"], [("a", "a2"), ("b", "b2")]),
+    "case B": ("plate_case_b.toml", [], ["c1", "c", "d", "e"], [("c1", "c"), ("d", "e")]),
+}
+DT_SAFETY = [0.3, 0.6, 0.9]
+
+PEN_CELLS_MM = [1.667, 1.111, 0.8333, 0.5556]
+PEN_CONVERSION = [0.01, 0.02, 0.05]
+PEN_HOURGLASS = ["viscous", "stiffness"]
+PEN_END = 80e-6  # s, the case's own end time
+PEN_GAP = 0.002  # m, projectile above the slab in the case file
+
+
+def run_fracta(fracta, case, overrides, out):
+    cmd = [fracta, "run", os.path.join(ROOT, "cases", case), "-o", out, "--set"] + overrides
+    env = dict(os.environ, OMP_NUM_THREADS="1", OMP_PROC_BIND="spread", OMP_PLACES="threads")
+    r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=env)
+    return r.returncode, r.stderr.strip().splitlines()[-1] if r.stderr.strip() else ""
+
+
+def attr(f, name):
+    v = f["run"].attrs[name]
+    return v.decode() if isinstance(v, bytes) else v
+
+
+def arrival(t, v):
+    """Time of the first half-plateau crossing of the particle velocity (linear interpolation)."""
+    half = 0.5 * V_PLANE
+    i = int(np.argmax(v >= half))
+    if v[i] < half or i == 0:
+        return float("nan")
+    return t[i - 1] + (half - v[i - 1]) / (v[i] - v[i - 1]) * (t[i] - t[i - 1])
+
+
+def probe_x(f, name):
+    import tomllib
+    for p in tomllib.loads(attr(f, "case"))["probe"]:
+        if p["name"] == name:
+            return float(p["at"][0])
+    raise KeyError(name)
+
+
+def plate_metrics(path, probes, pairs):
+    with h5py.File(path, "r") as f:
+        wall = float(f["run"].attrs["wall_seconds"])
+        steps = int(f["run"].attrs["steps"])
+        err_v, err_s, arr = 0.0, 0.0, {}
+        for n in probes:
+            g = f["probes"][n]
+            t, v, s = g["time"][:], g["vx"][:], g["sxx"][:]
+            ta = arrival(t, v)
+            arr[n] = (probe_x(f, n), ta)
+            window = (t > ta + 0.75e-6) & (t < ta + 2.25e-6)
+            plateau = float(np.mean(v[window])) if window.any() else float("nan")
+            err_v = max(err_v, abs(plateau / V_PLANE - 1))
+            err_s = max(err_s, abs(-float(np.min(s)) / P - 1))
+        err_c = 0.0
+        for a, b in pairs:
+            (xa, ta), (xb, tb) = arr[a], arr[b]
+            err_c = max(err_c, abs((xb - xa) / (tb - ta) / C_PLANE - 1))
+        energy = float(np.max(np.abs(f["history"]["energy"]["error"][:])))
+    return dict(wall_s=wall, steps=steps, err_wave_speed=err_c, err_plateau=err_v,
+                err_peak_stress=err_s, energy_error=energy)
+
+
+def penetration_metrics(path):
+    with h5py.File(path, "r") as f:
+        wall = float(f["run"].attrs["wall_seconds"])
+        steps = int(f["run"].attrs["steps"])
+        bp = f["body_probes"]["projectile"]
+        y, vy = bp["y"][:], bp["vy"][:]
+        h = f["history"]
+        elements = h["count"]["elements"][:]
+        conv = int(elements[0] - elements[-1])  # converted elements (active count drops)
+        energy = float(np.max(np.abs(h["energy"]["error"][:])))
+    return dict(wall_s=wall, steps=steps, depth_mm=1e3 * ((y[0] - y[-1]) - PEN_GAP),
+                residual_velocity=-float(vy[-1]), conversions=conv, energy_error=energy)
+
+
+def pareto(points):
+    """Indices of the points not dominated in (time, error): no other point is both faster and
+    more accurate."""
+    keep = []
+    for i, (t, e) in enumerate(points):
+        if not any((t2 <= t and e2 <= e) and (t2 < t or e2 < e) for t2, e2 in points):
+            keep.append(i)
+    return keep
+
+
+def plot(rows, err_keys, labels, group_key, title, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, len(err_keys), figsize=(5.2 * len(err_keys), 4.4))
+    groups = sorted({r[group_key] for r in rows})
+    markers = "osD^v<>p*"
+    coarsest = max(r["cell_mm"] for r in rows)
+    size = lambda r: 12 * (coarsest / r["cell_mm"]) ** 1.5  # noqa: E731 (finer cell: larger)
+    for ax, key, label in zip(axes, err_keys, labels):
+        ok = [r for r in rows if r["status"] == 0 and np.isfinite(r[key])]
+        for g, m in zip(groups, markers):
+            pts = [r for r in ok if r[group_key] == g]
+            ax.scatter([r["wall_s"] for r in pts], [max(r[key], 1e-5) * 100 for r in pts],
+                       s=[size(r) for r in pts], marker=m, label=str(g), alpha=0.75)
+        front = pareto([(r["wall_s"], r[key]) for r in ok])
+        fr = sorted((ok[i] for i in front), key=lambda r: r["wall_s"])
+        ax.step([r["wall_s"] for r in fr], [max(r[key], 1e-5) * 100 for r in fr], "k-",
+                where="post", lw=1, label="Pareto front")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("wall time (s, 1 thread)")
+        ax.set_ylabel(label + " error (%)")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].legend(fontsize=8)
+    fig.suptitle(title + " (marker size grows as the cell size falls)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def write_csv(rows, fields, path):
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(fields)
+        for r in rows:
+            w.writerow([f"{r[k]:.6g}" if isinstance(r[k], float) else r[k] for k in fields])
+
+
+def study_plate(fracta, out, tmp, quick):
+    cells = PLATE_CELLS_MM[:2] if quick else PLATE_CELLS_MM
+    rows = []
+    for h in cells:
+        for method, (case, sets, probes, pairs) in PLATE_METHODS.items():
+            for a in DT_SAFETY:
+                path = os.path.join(tmp, "plate.h5")
+                rc, msg = run_fracta(fracta, case, sets + [
+                    f"body.plate.cell_size={h * 1e-3:.9g}", f"simulation.dt_safety={a}",
+                    "simulation.end_time=8e-6", "simulation.output_interval=1.0",
+                    'output.fields=["velocity"]'], path)
+                row = dict(cell_mm=h, method=method, dt_safety=a, status=rc, message=msg)
+                if rc == 0:
+                    row.update(plate_metrics(path, probes, pairs))
+                else:
+                    row.update(wall_s=float("nan"), steps=0, err_wave_speed=float("nan"),
+                               err_plateau=float("nan"), err_peak_stress=float("nan"),
+                               energy_error=float("nan"))
+                rows.append(row)
+                print(f"plate {method:<7} h {h:.4g} mm dt_safety {a}: " +
+                      (f"{row['wall_s']:.2f} s, c {100 * row['err_wave_speed']:.2f}%, "
+                       f"v {100 * row['err_plateau']:.2f}%, peak {100 * row['err_peak_stress']:.2f}%"
+                       if rc == 0 else f"exit {rc}: {msg}"), flush=True)
+    fields = ["method", "cell_mm", "dt_safety", "status", "steps", "wall_s", "err_wave_speed",
+              "err_plateau", "err_peak_stress", "energy_error", "message"]
+    write_csv(rows, fields, os.path.join(out, "tradeoff_plate.csv"))
+    plot(rows, ["err_wave_speed", "err_plateau", "err_peak_stress"],
+         ["wave speed", "plateau velocity", "peak stress"], "method",
+         "Plate wave: error vs exact plane wave against wall time", 
+         os.path.join(out, "tradeoff_plate.png"))
+    return rows
+
+
+def study_penetration(fracta, out, tmp, quick):
+    cells = PEN_CELLS_MM[:2] if quick else PEN_CELLS_MM
+    rows = []
+    for h in cells:
+        for conv in PEN_CONVERSION:
+            for hg in PEN_HOURGLASS:
+                path = os.path.join(tmp, "pen.h5")
+                rc, msg = run_fracta(fracta, "penetration.toml", [
+                    f"body.slab.cell_size={h * 1e-3:.9g}",
+                    f"body.projectile.cell_size={h * 1e-3:.9g}",
+                    f"material.concrete.conversion_strain={conv}",
+                    f'simulation.hourglass="{hg}"', f"simulation.end_time={PEN_END}",
+                    "simulation.output_interval=1.0", 'output.fields=["velocity"]'], path)
+                row = dict(cell_mm=h, conversion_strain=conv, hourglass=hg, status=rc,
+                           message=msg)
+                if rc == 0:
+                    row.update(penetration_metrics(path))
+                else:
+                    row.update(wall_s=float("nan"), steps=0, depth_mm=float("nan"),
+                               residual_velocity=float("nan"), conversions=0,
+                               energy_error=float("nan"))
+                rows.append(row)
+                print(f"penetration h {h:.4g} mm conversion {conv} {hg}: " +
+                      (f"{row['wall_s']:.2f} s, depth {row['depth_mm']:.3f} mm, "
+                       f"v {row['residual_velocity']:.2f} m/s, {row['conversions']} converted, "
+                       f"energy error {100 * row['energy_error']:.3f}%"
+                       if rc == 0 else f"exit {rc}: {msg}"), flush=True)
+    ref = [r for r in rows if r["cell_mm"] == min(cells) and r["conversion_strain"] == 0.02
+           and r["hourglass"] == "viscous"][0]
+    for r in rows:
+        ok = r["status"] == 0 and ref["status"] == 0
+        r["err_depth"] = abs(r["depth_mm"] / ref["depth_mm"] - 1) if ok else float("nan")
+        r["err_residual_velocity"] = (abs(r["residual_velocity"] / ref["residual_velocity"] - 1)
+                                      if ok else float("nan"))
+        r["reference"] = r is ref
+    fields = ["cell_mm", "conversion_strain", "hourglass", "status", "steps", "wall_s",
+              "depth_mm", "residual_velocity", "conversions", "energy_error", "err_depth",
+              "err_residual_velocity", "reference", "message"]
+    write_csv(rows, fields, os.path.join(out, "tradeoff_penetration.csv"))
+    for r in rows:
+        r["setting"] = f"eps_c {r['conversion_strain']}, {r['hourglass']}"
+    plot([r for r in rows if not r["reference"]], ["err_depth", "err_residual_velocity",
+                                                  "energy_error"],
+         ["depth (vs finest)", "residual velocity (vs finest)", "energy balance"], "setting",
+         "Penetration (80 us): error against wall time", 
+         os.path.join(out, "tradeoff_penetration.png"))
+    return rows
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--fracta", default=os.path.join(ROOT, "build", "fracta"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
+    ap.add_argument("--study", choices=["plate", "penetration", "all"], default="all")
+    ap.add_argument("--quick", action="store_true", help="two cell sizes only (pipeline check)")
+    args = ap.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    with tempfile.TemporaryDirectory() as tmp:
+        if args.study in ("plate", "all"):
+            study_plate(args.fracta, args.out, tmp, args.quick)
+        if args.study in ("penetration", "all"):
+            study_penetration(args.fracta, args.out, tmp, args.quick)
+    with open(os.path.join(args.out, "tradeoff_machine.txt"), "w") as f:
+        for k, v in machine_info().items():
+            f.write(f"{k}: {v}\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
