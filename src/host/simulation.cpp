@@ -142,9 +142,24 @@ double Simulation::evaluate_forces(double dt) {
   double bound;
   {
     ProfilingRegion region("fracta::fe_forces");
-    bound = compute_fe_forces(m.nodes, m.elements, m.materials, p);
+    if (m.has_adaptive) {
+      const ConversionCriterion criterion{m.elements.active,
+                                          m.element_adaptive,
+                                          m.materials,
+                                          m.elements.material,
+                                          m.elements.epeq,
+                                          m.elements.stress,
+                                          m.elements.qp_per_element,
+                                          m.scene.sim.conversion_on_tension};
+      bound =
+          compute_fe_forces(m.nodes, m.elements, m.materials, p, criterion, conversion_pending_);
+    } else {
+      bound = compute_fe_forces(m.nodes, m.elements, m.materials, p);
+    }
   }
-  if (m.bonds.count > 0) {
+  // Model only what the scene holds now: bonds work once a cell has converted, and contact
+  // needs several bodies or discs (one intact body cannot touch itself).
+  if (m.bonds.count > 0 && m.converted_count > 0) {
     ProfilingRegion region("fracta::bond_forces");
     compute_cell_stress(m.converted, m.converted_count, m.element_bonds, m.lattice_stiffness,
                         m.elements, m.nodes, m.bonds);
@@ -152,7 +167,7 @@ double Simulation::evaluate_forces(double dt) {
     fracture_energy_ += r.fracture_energy;
     broken_bonds_ += r.broken;
   }
-  if (m.contacts) {
+  if (m.contacts && (m.scene.bodies.size() > 1 || m.converted_count > 0)) {
     {
       ProfilingRegion region("fracta::contact_search");
       m.contacts->update(m.nodes);
@@ -182,6 +197,11 @@ double Simulation::evaluate_forces(double dt) {
 void Simulation::convert() {
   ProfilingRegion region("fracta::conversion");
   Model& m = model_;
+  int pending = 0;
+  Kokkos::deep_copy(pending, conversion_pending_);
+  conversions_this_step_ = 0;
+  if (!pending) return;  // no element met its criterion in the force evaluations since last time
+  Kokkos::deep_copy(conversion_pending_, 0);
   const int n = compact_converted(m.elements, m.element_adaptive, m.materials,
                                   m.scene.sim.conversion_on_tension, m.new_cells, m.active_scratch);
   conversions_this_step_ = n;

@@ -61,7 +61,9 @@ class Simulation {
   View<int*> probe_node_, probe_element_;
   View<double* [7]> probe_values_;
   FragmentWorkspace fragments_;
-  View<double*[3]> contact_force_, contact_force_prev_;  // contact's own (fx, fy, moment)
+  View<double*[3]> contact_force_, contact_force_prev_;
+  // Raised by the FE kernel when an adaptive element meets its conversion criterion.
+  View<int> conversion_pending_{"fracta::conversion_pending"};  // contact's own (fx, fy, moment)
 
   struct Snapshot {
     StateViews views;

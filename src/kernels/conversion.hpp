@@ -109,8 +109,8 @@ struct ConversionCriterion {
   View<int*> material;
   View<double*> epeq;
   View<double* [4]> stress;
-  int qp;
-  bool on_tension;
+  int qp = 1;
+  bool on_tension = false;
   KOKKOS_INLINE_FUNCTION int operator()(const int i) const {
     const int e = active(i);
     if (!adaptive(e)) return 0;

@@ -5,6 +5,7 @@
 // time step bound.
 #pragma once
 #include "kernels/compat.hpp"
+#include "kernels/conversion.hpp"
 #include "kernels/materials.hpp"
 #include "kernels/state.hpp"
 
@@ -85,6 +86,10 @@ struct FeForces {
   Elements elements;
   View<const MaterialLaw*> materials;
   FeParams p;
+  // Adaptive scenes: set conversion_pending() to 1 if an element meets its conversion criterion
+  // after this update, so the conversion pass runs only when there is something to convert.
+  ConversionCriterion criterion;
+  View<int> conversion_pending;  // empty: no check
 
   KOKKOS_INLINE_FUNCTION void operator()(const int i, double& dt_min) const {
     const int e = elements.active(i);
@@ -250,6 +255,8 @@ struct FeForces {
     elements.strain_work(e) += strain_work;
     elements.viscous_work(e) += viscous;
     if (inverted) dt_min = -1.0;  // signals an inverted element to the host
+    if (conversion_pending.data() != nullptr && criterion(i))
+      Kokkos::atomic_exchange(&conversion_pending(), 1);
   }
 
   static constexpr double kFullIntegrationDtFactor = 0.9;
@@ -273,18 +280,25 @@ struct GatherCornerForces {
 
 // Launches the element kernel and the node gather; returns the smallest element stable step (s,
 // before the safety factor), or a negative value if an element has inverted.
+// With conversion_pending given, the kernel also raises it when an element (of criterion's
+// adaptive set) reaches its conversion criterion.
 inline double compute_fe_forces(const Nodes& nodes, const Elements& elements,
-                                const View<const MaterialLaw*>& materials, const FeParams& p) {
+                                const View<const MaterialLaw*>& materials, const FeParams& p,
+                                const ConversionCriterion& criterion = {},
+                                const View<int>& conversion_pending = {}) {
   double dt_min = 1e300;
   if (elements.active_count == 0) return dt_min;
   const auto policy = Kokkos::RangePolicy<ExecSpace>(0, elements.active_count);
   if (elements.qp_per_element == 1)
-    Kokkos::parallel_reduce("fracta::fe_forces", policy, FeForces<1>{nodes, elements, materials, p},
-                            Kokkos::Min<double>(dt_min));
+    Kokkos::parallel_reduce(
+        "fracta::fe_forces", policy,
+        FeForces<1>{nodes, elements, materials, p, criterion, conversion_pending},
+        Kokkos::Min<double>(dt_min));
   else
-    Kokkos::parallel_reduce("fracta::fe_forces_full", policy,
-                            FeForces<4>{nodes, elements, materials, p},
-                            Kokkos::Min<double>(dt_min));
+    Kokkos::parallel_reduce(
+        "fracta::fe_forces_full", policy,
+        FeForces<4>{nodes, elements, materials, p, criterion, conversion_pending},
+        Kokkos::Min<double>(dt_min));
   Kokkos::parallel_for("fracta::fe_gather", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
                        GatherCornerForces{nodes, elements});
   return dt_min;
