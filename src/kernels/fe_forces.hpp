@@ -108,7 +108,7 @@ struct FeForces {
     const double c = mat.wave_speed();
     double fx[4] = {0, 0, 0, 0}, fy[4] = {0, 0, 0, 0};
     double plastic = 0.0, viscous = 0.0, strain_work = 0.0, area = 0.0, div_rate = 0.0;
-    bool inverted = false;
+    bool inverted = false, convert = false;
 
     for (int g = 0; g < QP; ++g) {
       // Strain rate and spin at the mid-step configuration x(n+1/2) = x(n+1) - dt/2 v(n+1/2)
@@ -149,6 +149,18 @@ struct FeForces {
                       2.0 * (s_old[3] + s[3]) * deps[2]) *
                      0.5 * (elements.qp_volume(q) + volume);
       jaumann_rotate(s, half_spin);
+      if (conversion_pending.data() != nullptr) {
+        // ConversionCriterion on the values in hand, without its square root: the largest
+        // principal stress c + r reaches T' when T' - c <= 0 or r^2 >= (T' - c)^2. Slightly
+        // generous (1e-12): compact_converted re-checks exactly, a false alarm only costs a pass.
+        if (mat.conversion_strain > 0.0 && epeq >= mat.conversion_strain) convert = true;
+        if (criterion.on_tension && mat.tensile_strength > 0.0) {
+          const double centre = 0.5 * (s[0] + s[1]);
+          const double r2 = 0.25 * (s[0] - s[1]) * (s[0] - s[1]) + s[3] * s[3];
+          const double d = mat.tensile_strength * (1.0 - 1e-9) - centre;
+          if (d <= 0.0 || r2 >= d * d * (1.0 - 1e-12)) convert = true;
+        }
+      }
       for (int k = 0; k < 4; ++k) elements.stress(q, k) = s[k];
       elements.epeq(q) = epeq;
       elements.qp_volume(q) = volume;
@@ -255,8 +267,7 @@ struct FeForces {
     elements.strain_work(e) += strain_work;
     elements.viscous_work(e) += viscous;
     if (inverted) dt_min = -1.0;  // signals an inverted element to the host
-    if (conversion_pending.data() != nullptr && criterion(i))
-      Kokkos::atomic_exchange(&conversion_pending(), 1);
+    if (convert && criterion.adaptive(e)) Kokkos::atomic_exchange(&conversion_pending(), 1);
   }
 
   static constexpr double kFullIntegrationDtFactor = 0.9;
