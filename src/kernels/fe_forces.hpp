@@ -24,13 +24,24 @@ struct FeParams {
 // rotation by 2 atan(w dt / 2) = w dt (1 - (w dt)^2 / 12 + ...), so second-order accurate.
 // The first-order form s + (W s - s W) dt would not be orthogonal and would pump energy into a
 // spinning stressed body at O((w dt)^2) per step; cos/sin of w dt would cost a libm call.
-KOKKOS_INLINE_FUNCTION void jaumann_rotate(double s[4], double w_dt) {
+// cayley_rotation gives cos and sin of that rotation; rotate_stress applies it.
+KOKKOS_INLINE_FUNCTION void cayley_rotation(double w_dt, double& c, double& sn) {
   const double t = 0.5 * w_dt, inv = 1.0 / (1.0 + t * t);
-  const double c = (1.0 - t * t) * inv, sn = 2.0 * t * inv;
+  c = (1.0 - t * t) * inv;
+  sn = 2.0 * t * inv;
+}
+
+KOKKOS_INLINE_FUNCTION void rotate_stress(double s[4], double c, double sn) {
   const double sxx = s[0], syy = s[1], sxy = s[3];
   s[0] = c * c * sxx + 2.0 * c * sn * sxy + sn * sn * syy;
   s[1] = sn * sn * sxx - 2.0 * c * sn * sxy + c * c * syy;
   s[3] = c * sn * (syy - sxx) + (c * c - sn * sn) * sxy;
+}
+
+KOKKOS_INLINE_FUNCTION void jaumann_rotate(double s[4], double w_dt) {
+  double c, sn;
+  cayley_rotation(w_dt, c, sn);
+  rotate_stress(s, c, sn);
 }
 
 // Gradient operator of a Q4 at (xi, eta): dN/dx, dN/dy and det J.
@@ -105,7 +116,7 @@ struct FeForces {
       ym[a] = y[a] - 0.5 * p.dt * vy[a];
     }
     const MaterialLaw& mat = materials(elements.material(e));
-    const double c = mat.wave_speed();
+    const double c = mat.p_wave_speed > 0.0 ? mat.p_wave_speed : mat.wave_speed();
     double fx[4] = {0, 0, 0, 0}, fy[4] = {0, 0, 0, 0};
     double plastic = 0.0, viscous = 0.0, strain_work = 0.0, area = 0.0, div_rate = 0.0;
     bool inverted = false, convert = false;
@@ -134,8 +145,9 @@ struct FeForces {
       // Rotating by the whole spin first would add each increment in a frame turned by half a
       // step, a circulatory coupling of the deviatoric modes that makes a spinning body unstable
       // (energy growth ~ exp(omega * c dt / h * t), after ~60 rad at dt_safety 0.85).
-      const double half_spin = 0.25 * (lxy - lyx) * p.dt;
-      jaumann_rotate(s, half_spin);
+      double rot_c, rot_s;  // the half-step rotation, used twice
+      cayley_rotation(0.25 * (lxy - lyx) * p.dt, rot_c, rot_s);
+      rotate_stress(s, rot_c, rot_s);
       const double deps[3] = {lxx * p.dt, lyy * p.dt, 0.5 * (lxy + lyx) * p.dt};
       double epeq = elements.epeq(q);
       const double volume = weight * p.thickness;
@@ -148,7 +160,7 @@ struct FeForces {
                      ((s_old[0] + s[0]) * deps[0] + (s_old[1] + s[1]) * deps[1] +
                       2.0 * (s_old[3] + s[3]) * deps[2]) *
                      0.5 * (elements.qp_volume(q) + volume);
-      jaumann_rotate(s, half_spin);
+      rotate_stress(s, rot_c, rot_s);
       if (conversion_pending.data() != nullptr) {
         // ConversionCriterion on the values in hand, without its square root: the largest
         // principal stress c + r reaches T' when T' - c <= 0 or r^2 >= (T' - c)^2. Slightly
@@ -201,6 +213,7 @@ struct FeForces {
         }
         double b2 = 0.0;
         for (int a = 0; a < 4; ++a) b2 += bx[a] * bx[a] + by[a] * by[a];
+        const double sqrt_b2 = sqrt_(b2);
         double gx, gy;  // generalized hourglass force
         if (p.hourglass_stiffness) {
           // k = kappa (P-wave modulus) t A sum(b.b): an element-size-independent stiffness.
@@ -215,7 +228,7 @@ struct FeForces {
         } else {
           // Viscous: damping coefficient kappa rho c t A sqrt(sum b.b) (kg/s).
           const double cv =
-              p.hourglass_coefficient * mat.density * c * p.thickness * weight * sqrt_(b2);
+              p.hourglass_coefficient * mat.density * c * p.thickness * weight * sqrt_b2;
           gx = cv * qdot_x;
           gy = cv * qdot_y;
         }
@@ -234,11 +247,13 @@ struct FeForces {
         }
         // Stable step of the one-point element: omega_max^2 <= 4 c^2 sum(b.b) (FB 1981), i.e.
         // dt <= l / c with l = 1/sqrt(sum b.b) (h/sqrt(2) for a square of side h).
-        const double l = b2 > 0.0 ? 1.0 / sqrt_(b2) : 0.0;
+        // Without bulk viscosity (no compression) this is 1 / (c sqrt(sum b.b)).
         const double qs = div_rate < 0.0
                               ? p.bulk_quadratic * sqrt_(weight) * (-div_rate) + p.bulk_linear * c
                               : 0.0;
-        const double dt_e = l / (qs + sqrt_(qs * qs + c * c));
+        const double dt_e = !(b2 > 0.0) ? 0.0
+                            : qs > 0.0  ? 1.0 / (sqrt_b2 * (qs + sqrt_(qs * qs + c * c)))
+                                        : 1.0 / (sqrt_b2 * c);
         dt_min = dt_min < dt_e ? dt_min : dt_e;
       }
     }

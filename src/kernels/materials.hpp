@@ -27,6 +27,7 @@ struct MaterialLaw {
   double friction_angle = 0;    // mohr_coulomb, rad
   double tensile_strength = 0;  // Rankine cut-off, Pa (0 = no cut-off)
   double conversion_strain = 0;
+  double p_wave_speed = 0;  // m/s, wave_speed() cached by the model for the kernels (0: unset)
 
   // P-wave modulus of the formulation: plane strain lambda + 2G, plane stress E / (1 - nu^2).
   KOKKOS_INLINE_FUNCTION double p_wave_modulus() const {
