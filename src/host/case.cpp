@@ -840,7 +840,59 @@ void read_case(const Reader& r, Case& c) {
 // ---------------------------------------------------------------------------------------------
 // Parsing and --set overrides
 
+// TOML allows non-ASCII text only in strings and comments. toml++ 3.3.0 classifies a non-ASCII
+// code point met elsewhere with a lookup that reaches __builtin_unreachable() for most of
+// U+00A1..U+0499 and U+2D6E..U+3168 (undefined behaviour; found by fuzz/fuzz_case.cpp), so such
+// text is refused here, with the position, before toml++ sees it.
+void reject_bare_non_ascii(const std::string& text, const std::string& source_name) {
+  enum class In { bare, comment, basic, literal, multi_basic, multi_literal } in = In::bare;
+  int line = 1, column = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char ch = text[i];
+    ++column;
+    if (ch == '\n') {
+      ++line;
+      column = 0;
+      if (in == In::comment || in == In::basic || in == In::literal) in = In::bare;
+      continue;
+    }
+    const bool triple = text.compare(i, 3, std::string(3, ch)) == 0;
+    switch (in) {
+      case In::bare:
+        if (static_cast<unsigned char>(ch) >= 0x80)
+          throw InputError(source_name, line, "",
+                           "TOML syntax error (column " + std::to_string(column) +
+                               "): a non-ASCII character outside a string or comment");
+        if (ch == '#') in = In::comment;
+        if (ch == '"') in = triple ? In::multi_basic : In::basic;
+        if (ch == '\'') in = triple ? In::multi_literal : In::literal;
+        if (triple && (ch == '"' || ch == '\'')) i += 2;
+        break;
+      case In::comment:
+        break;
+      case In::basic:
+      case In::multi_basic:
+        if (ch == '\\') {
+          ++i;  // the escaped character (a newline after it is counted below)
+          if (i < text.size() && text[i] == '\n') --i;
+        } else if (ch == '"' && (in == In::basic || triple)) {
+          in = In::bare;
+          if (triple) i += 2;
+        }
+        break;
+      case In::literal:
+      case In::multi_literal:
+        if (ch == '\'' && (in == In::literal || triple)) {
+          in = In::bare;
+          if (triple) i += 2;
+        }
+        break;
+    }
+  }
+}
+
 toml::table parse_toml(const std::string& text, const std::string& source_name) {
+  reject_bare_non_ascii(text, source_name);
   try {
     return toml::parse(std::string_view(text), std::string_view(source_name));
   } catch (const toml::parse_error& e) {
@@ -869,10 +921,12 @@ std::vector<std::string> split(const std::string& s, char sep) {
 // The override's value as TOML ("1e-6", "\"x.h5\"", "[0, 1]"), else as a bare string.
 toml::table parse_override_value(const std::string& text) {
   try {
+    reject_bare_non_ascii("value = " + text, kOverrideSource);
     toml::table doc =
         toml::parse(std::string_view("value = " + text), std::string_view(kOverrideSource));
     if (doc.size() == 1) return doc;
   } catch (const toml::parse_error&) {
+  } catch (const InputError&) {  // not TOML: taken as a bare string
   }
   toml::table doc;
   doc.insert("value", text);
