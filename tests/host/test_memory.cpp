@@ -139,6 +139,27 @@ TEST(Memory, CountsBeyondIndexRangeAreRefusedWithoutAMemoryLimit) {
   }
 }
 
+// Through the CLI: exit code 2 and the message on stderr, for `check` and `run` alike.
+TEST(Memory, CliRefusesAnOversizedCaseWithCode2) {
+  const std::string plate = std::string(FRACTA_SOURCE_DIR) + "/cases/plate_fe.toml";
+  for (const std::string command : {"check", "run -o /dev/null"}) {
+    const std::string line = std::string("FRACTA_MEMORY_LIMIT_BYTES=4e9 ") + FRACTA_EXE + " " +
+                             command + " " + plate +
+                             " --set body.plate.cell_size=5e-6 2>&1 >/dev/null";
+    FILE* p = popen(line.c_str(), "r");
+    std::string err;
+    char buf[4096];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0) err.append(buf, n);
+    const int status = pclose(p);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << command << ": " << err;
+    EXPECT_NE(err.find("plate_fe.toml:"), std::string::npos) << err;
+    EXPECT_NE(err.find(": body['plate'].cell_size: the case needs about"), std::string::npos)
+        << err;
+    EXPECT_NE(err.find("only 4 GB is available"), std::string::npos) << err;
+  }
+}
+
 TEST(Memory, MalformedLimitIsAnInputError) {
   MemoryLimit bad("lots");
   EXPECT_THROW(available_memory_bytes(), InputError);
