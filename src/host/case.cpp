@@ -618,10 +618,13 @@ SimulationParams read_simulation(const Reader& r) {
   s.bulk_viscosity_quadratic =
       r.number("bulk_viscosity_quadratic", Range::ge(0), s.bulk_viscosity_quadratic);
   s.energy_error_limit = r.number("energy_error_limit", Range::gt(0), s.energy_error_limit);
-  s.conversion_interval =
-      static_cast<int>(r.number("conversion_interval", Range::ge(1), s.conversion_interval));
-  if (s.conversion_interval != r.number("conversion_interval", Range::ge(1), s.conversion_interval))
+  // Bounded before the conversion to int: a larger double does not fit (undefined behaviour;
+  // found by fuzz/fuzz_case.cpp). 10^9 steps is beyond any run.
+  const double interval =
+      r.number("conversion_interval", Range::ge(1).le(1e9), s.conversion_interval);
+  if (interval != std::floor(interval))
     r.fail("conversion_interval", "must be a whole number of steps");
+  s.conversion_interval = static_cast<int>(interval);
   s.conversion_on_tension = r.boolean("conversion_on_tension", s.conversion_on_tension);
   return s;
 }
