@@ -331,7 +331,10 @@ TEST(Fuzz, Reproducers) {
   }
   // Non-ASCII text where TOML allows it (comments, basic and literal strings, with escaped
   // quotes and quote characters inside) still parses.
-  std::string ok_text = "# Plaque d'acier \xc3\xa9prouv\xc3\xa9e \"\n" + plate;
+  std::string ok_text =
+      "# Plaque d'acier \xc3\xa9prouv\xc3\xa9"
+      "e \"\n" +
+      plate;
   const size_t title = ok_text.find("title = ");
   ASSERT_NE(title, std::string::npos);
   ok_text.replace(title, ok_text.find('\n', title) - title,
