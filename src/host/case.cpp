@@ -859,6 +859,14 @@ void reject_bare_non_ascii(const std::string& text, const std::string& source_na
       if (in == In::comment || in == In::basic || in == In::literal) in = In::bare;
       continue;
     }
+    // Control characters are not TOML anywhere (not even in strings or comments), and after a
+    // NUL toml++ and this scan no longer agree on what is a string (fuzz reproducer).
+    const auto byte = static_cast<unsigned char>(ch);
+    if ((byte < 0x20 && ch != '\t' && ch != '\r') || byte == 0x7f)
+      throw InputError(source_name, line, "",
+                       "TOML syntax error (column " + std::to_string(column) +
+                           "): control character U+00" + "0123456789ABCDEF"[byte >> 4] +
+                           "0123456789ABCDEF"[byte & 15] + " is not allowed");
     const bool triple = text.compare(i, 3, std::string(3, ch)) == 0;
     switch (in) {
       case In::bare:
