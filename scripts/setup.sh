@@ -8,13 +8,39 @@
 #   FRACTA_PREFIX     where our Kokkos goes (default /opt/fracta)
 #   FRACTA_BUILD_DIR  build directory (default <repo>/build)
 #   FRACTA_BUILD_TYPE CMake build type (default Release)
+#   FRACTA_KOKKOS_FLAVOR=debug (or the option --kokkos-debug): a Debug Kokkos with bounds
+#                     checking (Kokkos_ENABLE_DEBUG, Kokkos_ENABLE_DEBUG_BOUNDS_CHECK) from the
+#                     same source, in its own prefix kokkos-3.4.1-openmp-debug, and a Debug
+#                     fracta in build-debug-bounds/ (the CMakePresets.json preset debug-bounds)
 set -euo pipefail
 
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+flavor=${FRACTA_KOKKOS_FLAVOR:-release}
+for arg in "$@"; do
+  case $arg in
+    --kokkos-debug) flavor=debug ;;
+    *) printf '[setup] unknown option %s (known: --kokkos-debug)\n' "$arg" >&2; exit 2 ;;
+  esac
+done
 prefix=${FRACTA_PREFIX:-/opt/fracta}
-kokkos_prefix=$prefix/kokkos-3.4.1-openmp
-build_dir=${FRACTA_BUILD_DIR:-$repo/build}
-build_type=${FRACTA_BUILD_TYPE:-Release}
+case $flavor in
+  release)
+    kokkos_prefix=$prefix/kokkos-3.4.1-openmp
+    kokkos_flags=(-DCMAKE_BUILD_TYPE=Release)
+    build_dir=${FRACTA_BUILD_DIR:-$repo/build}
+    build_type=${FRACTA_BUILD_TYPE:-Release}
+    fracta_flags=()
+    ;;
+  debug)
+    kokkos_prefix=$prefix/kokkos-3.4.1-openmp-debug
+    kokkos_flags=(-DCMAKE_BUILD_TYPE=Debug -DKokkos_ENABLE_DEBUG=ON
+      -DKokkos_ENABLE_DEBUG_BOUNDS_CHECK=ON)
+    build_dir=${FRACTA_BUILD_DIR:-$repo/build-debug-bounds}
+    build_type=${FRACTA_BUILD_TYPE:-Debug}
+    fracta_flags=(-DFRACTA_BUILD_BENCH=OFF)  # the bounds check is for the tests
+    ;;
+  *) printf '[setup] FRACTA_KOKKOS_FLAVOR must be release or debug (got %s)\n' "$flavor" >&2; exit 2 ;;
+esac
 jobs=$(nproc)
 
 say() { printf '[setup] %s\n' "$*" >&2; }
@@ -45,13 +71,13 @@ elif [ -f "$kokkos_prefix/.fracta-stamp" ]; then
   kokkos_root=$kokkos_prefix
 else
   kokkos_root=$kokkos_prefix
-  say "building Kokkos 3.4.1 (OpenMP + Serial) into $kokkos_prefix (about a minute, once)"
+  say "building Kokkos 3.4.1 (OpenMP + Serial, $flavor) into $kokkos_prefix (about a minute, once)"
   work=$(mktemp -d)
   trap 'rm -rf "$work"' EXIT
   # shellcheck source=scripts/kokkos_source.sh
   . "$repo/scripts/kokkos_source.sh"
   fracta_kokkos_source "$prefix/src" "$work"
-  cmake -S "$work" -B "$work/build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+  cmake -S "$work" -B "$work/build" -G Ninja "${kokkos_flags[@]}" \
     -DCMAKE_CXX_STANDARD=17 -DCMAKE_INSTALL_PREFIX="$kokkos_prefix" \
     -DKokkos_ENABLE_OPENMP=ON -DKokkos_ENABLE_SERIAL=ON >"$work/configure.log" 2>&1 ||
     { cat "$work/configure.log" >&2; exit 1; }
@@ -64,7 +90,7 @@ fi
 # --- 3. fracta ----------------------------------------------------------------------
 if [ ! -f "$build_dir/CMakeCache.txt" ]; then
   cmake -S "$repo" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="$build_type" \
-    -DKokkos_ROOT="$kokkos_root" >"$build_dir.configure.log" 2>&1 ||
+    -DKokkos_ROOT="$kokkos_root" ${fracta_flags[@]+"${fracta_flags[@]}"} >"$build_dir.configure.log" 2>&1 ||
     { cat "$build_dir.configure.log" >&2; exit 1; }
   rm -f "$build_dir.configure.log"
 fi

@@ -8,6 +8,7 @@
 #include <cstdlib>
 
 #include "host/case.hpp"
+#include "host/memory.hpp"
 #include "host/mesh.hpp"
 #include "host/model.hpp"
 #include "host/simulation.hpp"
@@ -25,7 +26,7 @@ int check_case(const fracta::Case& c) {
   using namespace fracta;
   const HostMesh mesh = build_mesh(c);
   const int qp = c.sim.integration == Integration::full ? 4 : 1;
-  const double memory = estimate_memory_bytes(mesh.node_count(), mesh.element_count(), qp);
+  const double memory = estimate_memory(c).bytes;  // what build_mesh checked against
   Simulation sim(c);  // validates what the mesh alone cannot (lattice range, stable dt, ...)
   const HistoryRecord h = sim.history();
   const Model& m = sim.model();
@@ -59,7 +60,7 @@ int check_case(const fracta::Case& c) {
     std::printf("  DE: none (no de body): no bonds, no contact search\n");
   std::printf("  loads %zu, boundary sets %zu, probes %zu, body probes %zu\n", c.loads.size(),
               c.boundaries.size(), c.probes.size(), c.body_probes.size());
-  std::printf("  memory estimate %.1f MB (FE state)\n", memory / 1e6);
+  std::printf("  memory estimate %s (peak of a run)\n", format_bytes(memory).c_str());
   std::printf("  stable dt bound %.4g s; dt %.4g s (%s); about %.0f steps\n", sim.stable_dt_bound(),
               sim.dt(), c.sim.dt > 0 ? "fixed" : "dt_safety x bound",
               c.sim.end_time / std::max(sim.dt(), 1e-300));

@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
+
+#include "host/memory.hpp"
 
 namespace fracta {
 
@@ -104,13 +105,14 @@ std::array<double, 4> shape_bounds(const Shape& s) {
 }
 
 HostMesh build_mesh(const Case& c) {
+  check_memory(c);  // refuses absurd cell counts before anything is allocated
   HostMesh m;
   for (size_t b = 0; b < c.bodies.size(); ++b) {
     const Body& body = c.bodies[b];
     const auto bb = shape_bounds(body.shape);
     const double w = bb[2] - bb[0], h = bb[3] - bb[1];
-    const int nx = static_cast<int>(std::lround(w / body.cell_size));
-    const int ny = static_cast<int>(std::lround(h / body.cell_size));
+    const BodyGrid grid = body_grid(body);  // bounded by check_memory: fits an int
+    const int nx = static_cast<int>(grid.nx), ny = static_cast<int>(grid.ny);
     if (nx < 1 || ny < 1)  // fitting would silently change the cell size by more than 2x
       throw InputError(body.pos.file, body.pos.line, "body['" + body.name + "'].cell_size",
                        "the shape (" + std::to_string(w) + " x " + std::to_string(h) +
@@ -172,23 +174,27 @@ HostMesh build_mesh(const Case& c) {
       throw InputError(body.pos.file, body.pos.line, "body['" + body.name + "'].shape",
                        "the shape covers no cell of size " + std::to_string(body.cell_size) +
                            " m (make cell_size smaller or the shape larger)");
+    // Boundary edges: element edges whose neighbouring cell across the edge is not kept (bodies
+    // share no nodes). A grid lookup, linear in the cell count (a map of edges was not).
+    auto kept = [&](int i, int j) {
+      return i >= 0 && j >= 0 && i < nx && j < ny && keep[static_cast<size_t>(j) * nx + i];
+    };
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        if (!kept(i, j)) continue;
+        // Edge a runs from node a to node a + 1 (counter-clockwise): bottom, right, top, left.
+        const int corner[4][2] = {{i, j}, {i + 1, j}, {i + 1, j + 1}, {i, j + 1}};
+        const int across[4][2] = {{i, j - 1}, {i + 1, j}, {i, j + 1}, {i - 1, j}};
+        for (int a = 0; a < 4; ++a) {
+          if (kept(across[a][0], across[a][1])) continue;
+          const int b1 = (a + 1) % 4;
+          m.boundary_edges.push_back(
+              {node_at(corner[a][0], corner[a][1]), node_at(corner[b1][0], corner[b1][1])});
+          m.boundary_edge_body.push_back(static_cast<int>(b));
+        }
+      }
     m.bodies.push_back(r);
   }
-  // Boundary edges: element edges not shared with another element (per body by construction).
-  std::map<std::pair<int, int>, int> edge_count;
-  for (const auto& en : m.element_nodes)
-    for (int a = 0; a < 4; ++a) {
-      const int p = en[a], q = en[(a + 1) % 4];
-      edge_count[{std::min(p, q), std::max(p, q)}]++;
-    }
-  for (int e = 0; e < m.element_count(); ++e)
-    for (int a = 0; a < 4; ++a) {
-      const int p = m.element_nodes[e][a], q = m.element_nodes[e][(a + 1) % 4];
-      if (edge_count[{std::min(p, q), std::max(p, q)}] == 1) {
-        m.boundary_edges.push_back({p, q});
-        m.boundary_edge_body.push_back(m.element_body[e]);
-      }
-    }
   return m;
 }
 

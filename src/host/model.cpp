@@ -26,14 +26,6 @@ MaterialLaw material_law(const Material& m, Formulation f) {
   return law;
 }
 
-double estimate_memory_bytes(long nodes, long elements, int qp) {
-  // Nodes: x0, x, v, f, f_ext (2 doubles each), mass, fixed, body. Elements: nodes (4 ints),
-  // material, body, active, per qp stress (4) + epeq + volume, per element 5 doubles.
-  const double per_node = 10 * 8 + 8 + 4 + 4;
-  const double per_element = 7 * 4 + qp * 6 * 8 + 5 * 8;
-  return nodes * per_node + elements * per_element;
-}
-
 namespace {
 
 template <class T, class HostVec>

@@ -63,7 +63,4 @@ Model build_model(const Case& c);
 
 MaterialLaw material_law(const Material& m, Formulation f);
 
-// Rough memory estimate of a model (bytes) from its counts.
-double estimate_memory_bytes(long nodes, long elements, int qp_per_element);
-
 }  // namespace fracta

@@ -96,7 +96,8 @@ V clone(const V& src) {
 
 std::string format_duration(double s) {
   char buf[32];
-  if (!std::isfinite(s) || s < 0) return "--:--";
+  // Over 30 years is no ETA; far larger values would not fit the long (undefined behaviour).
+  if (!std::isfinite(s) || s < 0 || s > 1e9) return "--:--";
   const long t = static_cast<long>(s + 0.5);
   if (t >= 3600)
     std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);

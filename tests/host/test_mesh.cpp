@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
 #include "host/mesh.hpp"
 #include "test_util.hpp"
@@ -76,6 +77,47 @@ TEST(Mesh, ShapeCoveringNoCellIsAnInputError) {
   c.bodies[0].shape.radius = 1e-4;  // smaller than half a cell: no cell centre inside
   c.bodies[0].shape.x = 0.3e-3;
   EXPECT_THROW(build_mesh(c), InputError);
+}
+
+// Boundary edges come from a grid lookup (linear in the cells); the reference is the definition:
+// element edges that belong to exactly one element, counted over all elements with a map, in
+// element order. Two bodies, one a disc with a hole and a notch, so inner boundaries count too.
+TEST(Mesh, BoundaryEdgesAreTheEdgesOfExactlyOneElement) {
+  Case c = test::rectangle_case(20, 10, 1e-3);
+  Body disc = c.bodies[0];
+  disc.name = "disc";
+  disc.shape.type = Shape::Type::circle;
+  disc.shape.x = 0.05;
+  disc.shape.radius = 0.012;
+  Shape hole;
+  hole.type = Shape::Type::circle;
+  hole.x = 0.052;
+  hole.radius = 0.004;
+  Shape notch;
+  notch.x = 0.038;
+  notch.y = -0.001;
+  notch.width = 0.008;
+  notch.height = 0.002;
+  disc.cuts = {hole, notch};
+  c.bodies.push_back(disc);
+  const HostMesh m = build_mesh(c);
+  std::map<std::pair<int, int>, int> uses;
+  for (const auto& en : m.element_nodes)
+    for (int a = 0; a < 4; ++a)
+      uses[{std::min(en[a], en[(a + 1) % 4]), std::max(en[a], en[(a + 1) % 4])}]++;
+  std::vector<std::array<int, 2>> expected;
+  std::vector<int> expected_body;
+  for (int e = 0; e < m.element_count(); ++e)
+    for (int a = 0; a < 4; ++a) {
+      const int p = m.element_nodes[e][a], q = m.element_nodes[e][(a + 1) % 4];
+      if (uses[{std::min(p, q), std::max(p, q)}] == 1) {
+        expected.push_back({p, q});
+        expected_body.push_back(m.element_body[e]);
+      }
+    }
+  EXPECT_EQ(m.boundary_edges, expected);
+  EXPECT_EQ(m.boundary_edge_body, expected_body);
+  EXPECT_GT(expected.size(), 2u * (20 + 10) + 60u);  // the disc, its hole and notch add edges
 }
 
 }  // namespace

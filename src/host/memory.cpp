@@ -1,0 +1,165 @@
+#include "host/memory.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "host/mesh.hpp"
+
+namespace fracta {
+
+namespace {
+
+bool convertible(BodyMethod m) {
+  return m == BodyMethod::de || m == BodyMethod::adaptive;
+}
+
+bool body_has_lattice(const Body& b) {
+  bool lattice = convertible(b.method);
+  for (const Region& r : b.regions) lattice = lattice || convertible(r.method);
+  return lattice;
+}
+
+// Bytes per item of a model, counted from the views and host arrays that build_model and a run
+// allocate (src/host/model.cpp, src/kernels/state.hpp), plus two measured terms for what is not
+// itemised (the run's host buffers: output frames, history, mirrors; transient copies while the
+// model is built). Calibrated on the peak RSS of `fracta run` (g++ 12 Release, OpenMP, 2
+// threads; a 30 x 60 mm plate, 45 000 and 180 000 cells, a few steps, two output frames):
+//   fe: measured 47.8 / 140.7 MB (17 MB + 690 B per cell), estimate 1.16-1.17 times that;
+//   de: measured 102.3 / 357.4 MB (17 MB + 1890 B per cell), estimate 1.15 times that.
+// tests/host/test_memory.cpp re-measures and requires 1 <= estimate / measured <= 1.6.
+constexpr double kBaseBytes = 20e6;  // Kokkos, HDF5, the executable: 17 MB measured
+// Node: x0, x, v, f, f_ext (10 doubles), mass, fixed, body on the device; position and body in
+// the host mesh; the node-id grid and output/history buffers of a run.
+constexpr double kNodeBytes = 80 + 8 + 8 + 20 + 4 + 24;
+// Element: 4 nodes, material, body, active, alive; hourglass state and four work tallies;
+// host mesh copy (nodes, body, material, method) and output buffers.
+constexpr double kElementBytes = 32 + 64 + 28 + 24;
+// Quadrature point: stress (4), epeq, volume, bulk viscosity.
+constexpr double kQuadraturePointBytes = 56;
+// Not itemised, per cell of any body (measured 690 B per cell in all, 350 B itemised above).
+constexpr double kRunBytesPerCell = 450;
+// Nodes of any model with a lattice (a convertible body, or several bodies in contact): the
+// particle views (flags, radius, inertia, rotation, spin, moment, contact stiffness), topology
+// offsets, and the host lists build_lattice fills on the way (node -> bonds, node -> elements).
+constexpr double kLatticeNodeBytes = 56 + 8 + 2 * 56;
+// Elements of any model with a lattice: element bond slots, cell stress, intact flag, strain
+// offset, conversion workspace.
+constexpr double kLatticeElementBytes = 88;
+// Cells of a convertible body: about 4 bond slots each (2 edges, 2 diagonals) of 108 B on the
+// device, the topology's node -> bond and node -> element lists, build_lattice's host slot
+// arrays and edge map, and the part not itemised (measured 1200 B per cell beyond the FE part,
+// 1030 B itemised).
+constexpr double kConvertibleCellBytes = 4 * 108 + 32 + 16 + 232 + 350;
+// Contact discs (every node of a convertible body, the boundary nodes of the others): disc id,
+// position at the last build, binning, candidate pairs.
+constexpr double kDiscBytes = 56;
+
+// Indices are 32-bit ints (node ids, element ids, 4 bond slots per cell): keep well below.
+constexpr double kMaxCells = INT_MAX / 8.0;
+
+}  // namespace
+
+BodyGrid body_grid(const Body& b) {
+  const auto bb = shape_bounds(b.shape);
+  const double w = bb[2] - bb[0], h = bb[3] - bb[1];
+  BodyGrid g;
+  // The same rounding as build_mesh (lround of the ratio), in doubles so that nothing overflows.
+  g.nx = std::round(w / b.cell_size);
+  g.ny = std::round(h / b.cell_size);
+  if (!(g.nx >= 1) || !(g.ny >= 1)) g.nx = g.ny = 0;  // build_mesh reports "smaller than a cell"
+  return g;
+}
+
+MemoryEstimate estimate_memory(const Case& c) {
+  MemoryEstimate e;
+  const bool lattice =
+      c.bodies.size() > 1 || std::any_of(c.bodies.begin(), c.bodies.end(), body_has_lattice);
+  const int qp = c.sim.integration == Integration::full ? 4 : 1;
+  double largest = -1;
+  for (size_t i = 0; i < c.bodies.size(); ++i) {
+    const BodyGrid g = body_grid(c.bodies[i]);
+    const double cells = g.cells(), nodes = g.nodes();
+    double bytes = nodes * kNodeBytes +
+                   cells * (kElementBytes + qp * kQuadraturePointBytes + kRunBytesPerCell);
+    if (lattice) bytes += nodes * kLatticeNodeBytes + cells * kLatticeElementBytes;
+    if (body_has_lattice(c.bodies[i]))
+      bytes += cells * kConvertibleCellBytes + nodes * kDiscBytes;
+    else if (lattice)
+      bytes += 2 * (g.nx + g.ny) * kDiscBytes;  // boundary nodes
+    e.cells += cells;
+    e.nodes += nodes;
+    e.bytes += bytes;
+    if (bytes > largest) {
+      largest = bytes;
+      e.largest_body = static_cast<int>(i);
+    }
+  }
+  e.bytes += kBaseBytes;
+  return e;
+}
+
+double available_memory_bytes() {
+  if (const char* env = std::getenv("FRACTA_MEMORY_LIMIT_BYTES")) {
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(env, &end);
+    if (end == env || *end != '\0' || errno != 0 || !(v > 0) || !std::isfinite(v))
+      throw InputError("environment", 0, "FRACTA_MEMORY_LIMIT_BYTES",
+                       std::string("must be a positive number of bytes (got '") + env + "')");
+    return v;
+  }
+  std::ifstream in("/proc/meminfo");
+  std::string line;
+  while (std::getline(in, line)) {
+    double kib = 0;
+    if (std::sscanf(line.c_str(), "MemAvailable: %lf kB", &kib) == 1) return kib * 1024.0;
+  }
+  return -1;
+}
+
+std::string format_bytes(double bytes) {
+  char buf[64];
+  if (bytes >= 1e9)
+    std::snprintf(buf, sizeof buf, "%.3g GB", bytes / 1e9);
+  else
+    std::snprintf(buf, sizeof buf, "%.3g MB", bytes / 1e6);
+  return buf;
+}
+
+void check_memory(const Case& c) {
+  const MemoryEstimate e = estimate_memory(c);
+  if (e.largest_body < 0) return;
+  const Body& body = c.bodies[e.largest_body];
+  const BodyGrid g = body_grid(body);
+  std::ostringstream grid;
+  grid.precision(3);
+  grid << "this body: " << g.nx << " x " << g.ny << " cells of " << body.cell_size << " m";
+  const std::string key = "body['" + body.name + "'].cell_size";
+  if (!std::isfinite(e.bytes) || e.cells > kMaxCells) {
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << "the case asks for " << e.cells << " cells (" << grid.str() << "), more than the "
+        << kMaxCells << " the mesh's 32-bit indices allow; make cell_size larger";
+    throw InputError(body.pos.file, body.pos.line, key, msg.str());
+  }
+  const double available = available_memory_bytes();
+  if (available > 0 && e.bytes > available) {
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << "the case needs about " << format_bytes(e.bytes) << " of memory (" << e.cells
+        << " cells, " << e.nodes << " nodes; " << grid.str() << ") but only "
+        << format_bytes(available) << " is available ("
+        << (std::getenv("FRACTA_MEMORY_LIMIT_BYTES") ? "FRACTA_MEMORY_LIMIT_BYTES"
+                                                     : "MemAvailable in /proc/meminfo")
+        << "); make cell_size larger";
+    throw InputError(body.pos.file, body.pos.line, key, msg.str());
+  }
+}
+
+}  // namespace fracta

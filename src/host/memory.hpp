@@ -1,0 +1,41 @@
+// Memory estimate of a case before its mesh is built, and the check that refuses a case that
+// would not fit (DESIGN.md 3.1: bad input, exit code 2). Host-only, no Kokkos: the fuzz harness
+// links it without the device code.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "host/case.hpp"
+
+namespace fracta {
+
+// The grid a body's mesh is fitted to: cells of about cell_size over the shape's bounding box.
+// Doubles, so that absurd inputs (1e308 m wide, 1e-300 m cells) are counted without overflow.
+struct BodyGrid {
+  double nx = 0, ny = 0;  // cells along x and y (0 when the shape is smaller than one cell)
+  double cells() const { return nx * ny; }
+  double nodes() const { return (nx + 1) * (ny + 1); }
+};
+BodyGrid body_grid(const Body& b);
+
+struct MemoryEstimate {
+  double bytes = 0;       // peak resident memory of a run (B), see memory.cpp for what it counts
+  double cells = 0;       // upper bound: every cell of every body's bounding-box grid
+  double nodes = 0;       // upper bound, likewise
+  int largest_body = -1;  // the body with the largest share of `bytes` (-1: no body)
+};
+MemoryEstimate estimate_memory(const Case& c);
+
+// Bytes available for a run: FRACTA_MEMORY_LIMIT_BYTES when set (tests, batch systems), else
+// MemAvailable from /proc/meminfo; a negative value when neither is known (no check then).
+// Throws InputError for a malformed FRACTA_MEMORY_LIMIT_BYTES.
+double available_memory_bytes();
+
+// Throws InputError at the largest body's cell_size when the case would need more cells than
+// the mesh's 32-bit indices can address, or more memory than available_memory_bytes().
+void check_memory(const Case& c);
+
+// "1.5 GB", "320 MB": for messages.
+std::string format_bytes(double bytes);
+
+}  // namespace fracta
