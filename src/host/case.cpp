@@ -850,12 +850,14 @@ void read_case(const Reader& r, Case& c) {
 void reject_bare_non_ascii(const std::string& text, const std::string& source_name) {
   enum class In { bare, comment, basic, literal, multi_basic, multi_literal } in = In::bare;
   int line = 1, column = 0;
+  char prev = '\n';  // the last character outside strings and comments that is not a blank
   for (size_t i = 0; i < text.size(); ++i) {
     const char ch = text[i];
     ++column;
     if (ch == '\n') {
       ++line;
       column = 0;
+      if (in != In::multi_basic && in != In::multi_literal) prev = '\n';
       if (in == In::comment || in == In::basic || in == In::literal) in = In::bare;
       continue;
     }
@@ -875,9 +877,14 @@ void reject_bare_non_ascii(const std::string& text, const std::string& source_na
                            "TOML syntax error (column " + std::to_string(column) +
                                "): a non-ASCII character outside a string or comment");
         if (ch == '#') in = In::comment;
-        if (ch == '"') in = triple ? In::multi_basic : In::basic;
-        if (ch == '\'') in = triple ? In::multi_literal : In::literal;
-        if (triple && (ch == '"' || ch == '\'')) i += 2;
+        // A quote opens a string only where TOML allows one (a key or a value: first on the
+        // line, or after = [ , { .); elsewhere toml++ does not read a string either (fuzz).
+        if ((ch == '"' || ch == '\'') && std::strchr("\n=[,{.", prev) != nullptr) {
+          if (ch == '"') in = triple ? In::multi_basic : In::basic;
+          if (ch == '\'') in = triple ? In::multi_literal : In::literal;
+          if (triple) i += 2;
+        }
+        if (ch != ' ' && ch != '\t') prev = ch;
         break;
       case In::comment:
         break;
