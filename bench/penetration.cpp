@@ -139,12 +139,7 @@ int main(int argc, char** argv) {
   const int fd = mkstemp(tmpl);
   if (fd >= 0) close(fd);
   const std::string out_path = std::string(tmpl) + ".h5";
-  RunInfo info;
-  info.version = FRACTA_VERSION;
-  info.backend = ExecSpace::name();
-  info.threads = ExecSpace().concurrency();
-  info.case_text = c.text;
-  info.case_path = c.path;
+  const RunInfo info = run_info(c);
   double output_seconds = 0.0;
   {
     OutputFile out(out_path, info);

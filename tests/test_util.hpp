@@ -2,6 +2,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,27 @@
 #include "host/simulation.hpp"
 
 namespace fracta::test {
+
+// Sets FRACTA_MEMORY_LIMIT_BYTES (or unsets it for nullptr) for one scope.
+class MemoryLimit {
+ public:
+  explicit MemoryLimit(const char* bytes) {
+    if (const char* old = std::getenv("FRACTA_MEMORY_LIMIT_BYTES")) saved_ = old;
+    if (bytes)
+      setenv("FRACTA_MEMORY_LIMIT_BYTES", bytes, 1);
+    else
+      unsetenv("FRACTA_MEMORY_LIMIT_BYTES");
+  }
+  ~MemoryLimit() {
+    if (saved_.empty())
+      unsetenv("FRACTA_MEMORY_LIMIT_BYTES");
+    else
+      setenv("FRACTA_MEMORY_LIMIT_BYTES", saved_.c_str(), 1);
+  }
+
+ private:
+  std::string saved_;
+};
 
 // One rectangular elastic body of nx x ny square cells of size h, plane strain unless told.
 inline Case rectangle_case(int nx, int ny, double h, double E = 200e9, double nu = 0.3,

@@ -496,6 +496,16 @@ void Simulation::restore_snapshot() {
   steps_ = snapshot_.steps;
 }
 
+RunInfo run_info(const Case& c) {
+  RunInfo info;
+  info.version = FRACTA_VERSION;
+  info.backend = ExecSpace::name();
+  info.threads = ExecSpace().concurrency();
+  info.case_text = c.text;
+  info.case_path = c.path;
+  return info;
+}
+
 int run_case(const Case& c, const RunOptions& opt) {
   using clock = std::chrono::steady_clock;
   const auto wall0 = clock::now();
@@ -514,12 +524,7 @@ int run_case(const Case& c, const RunOptions& opt) {
                  opt.restart_path.c_str(), sim.time(), sim.steps(),
                  std::chrono::duration<double>(clock::now() - read0).count());
   }
-  RunInfo info;
-  info.version = FRACTA_VERSION;
-  info.backend = ExecSpace::name();
-  info.threads = ExecSpace().concurrency();
-  info.case_text = c.text;
-  info.case_path = c.path;
+  const RunInfo info = run_info(c);
   OutputFile out(path, info);
   for (const auto& p : sim.model().probes) out.declare_probe(p.name);
   for (const auto& p : sim.model().body_probes) out.declare_body_probe(p.name);

@@ -90,4 +90,7 @@ struct RunOptions {
 // (including an unreadable or incompatible restart checkpoint).
 int run_case(const Case& c, const RunOptions& opt);
 
+// The /run attributes of an output file of case c written by this build and backend.
+RunInfo run_info(const Case& c);
+
 }  // namespace fracta

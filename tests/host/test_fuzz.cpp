@@ -22,11 +22,13 @@
 #include "host/memory.hpp"
 #include "host/mesh.hpp"
 #include "host/model.hpp"
+#include "test_util.hpp"
 
 namespace fracta {
 namespace {
 
 namespace fs = std::filesystem;
+using test::MemoryLimit;
 
 // SplitMix64: the same stream on every platform and standard library (std::*_distribution is
 // not), so a failing mutant number reproduces anywhere.
@@ -221,25 +223,6 @@ Outcome try_case(const std::string& text, const std::string& file, bool build_de
   return o;
 }
 
-// 64 MB: the memory check then refuses meshes beyond some 10^5 cells, as it would on a small
-// machine, so a mutant asking for 10^9 cells costs nothing (and the test cannot hang on one).
-class MemoryLimit {
- public:
-  explicit MemoryLimit(const char* bytes) {
-    if (const char* old = std::getenv("FRACTA_MEMORY_LIMIT_BYTES")) saved_ = old;
-    setenv("FRACTA_MEMORY_LIMIT_BYTES", bytes, 1);
-  }
-  ~MemoryLimit() {
-    if (saved_.empty())
-      unsetenv("FRACTA_MEMORY_LIMIT_BYTES");
-    else
-      setenv("FRACTA_MEMORY_LIMIT_BYTES", saved_.c_str(), 1);
-  }
-
- private:
-  std::string saved_;
-};
-
 struct Rejected {
   std::string name, text, error;
 };
@@ -254,6 +237,8 @@ struct Campaign {
 
 Campaign run_campaign(int mutants_per_seed) {
   Campaign r;
+  // 64 MB: the memory check then refuses meshes beyond some 10^5 cells, as it would on a small
+  // machine, so a mutant asking for 10^9 cells costs nothing (and the test cannot hang on one).
   MemoryLimit limit("64e6");
   Rng rng{20261122};
   for (const Seed& seed : seed_cases()) {

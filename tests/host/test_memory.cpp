@@ -26,27 +26,7 @@ namespace fracta {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Sets FRACTA_MEMORY_LIMIT_BYTES (or unsets it for nullptr) for one scope.
-class MemoryLimit {
- public:
-  explicit MemoryLimit(const char* bytes) {
-    if (const char* old = std::getenv("FRACTA_MEMORY_LIMIT_BYTES")) saved_ = old;
-    if (bytes)
-      setenv("FRACTA_MEMORY_LIMIT_BYTES", bytes, 1);
-    else
-      unsetenv("FRACTA_MEMORY_LIMIT_BYTES");
-  }
-  ~MemoryLimit() {
-    if (saved_.empty())
-      unsetenv("FRACTA_MEMORY_LIMIT_BYTES");
-    else
-      setenv("FRACTA_MEMORY_LIMIT_BYTES", saved_.c_str(), 1);
-  }
-
- private:
-  std::string saved_;
-};
+using test::MemoryLimit;
 
 // A free body of a single cell translating at (3, -2) m/s: no strain, so nothing may change.
 // Momentum and kinetic energy stay m v and m v^2 / 2 to round-off (1e-12 relative: positions
