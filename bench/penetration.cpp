@@ -143,17 +143,8 @@ int main(int argc, char** argv) {
   double output_seconds = 0.0;
   {
     OutputFile out(out_path, info);
-    for (const auto& p : sim.model().probes) out.declare_probe(p.name);
-    for (const auto& p : sim.model().body_probes) out.declare_body_probe(p.name);
-    const auto record = [&] {
-      out.append_history(sim.history());
-      const auto probes = sim.probe_records();
-      for (size_t k = 0; k < probes.size(); ++k)
-        out.append_probe(sim.model().probes[k].name, probes[k]);
-      const auto bprobes = sim.body_probe_records();
-      for (size_t k = 0; k < bprobes.size(); ++k)
-        out.append_body_probe(sim.model().body_probes[k].name, bprobes[k]);
-    };
+    declare_probes(out, sim);
+    const auto record = [&] { record_history(out, sim); };
 
     for (long s = 0; s < o.warmup && !sim.failed(); ++s) sim.step();
     const HistoryRecord h0 = sim.history();

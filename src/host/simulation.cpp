@@ -506,6 +506,23 @@ RunInfo run_info(const Case& c) {
   return info;
 }
 
+void declare_probes(OutputFile& out, const Simulation& sim) {
+  for (const auto& p : sim.model().probes) out.declare_probe(p.name);
+  for (const auto& p : sim.model().body_probes) out.declare_body_probe(p.name);
+}
+
+HistoryRecord record_history(OutputFile& out, Simulation& sim) {
+  const HistoryRecord h = sim.history();
+  out.append_history(h);
+  const auto probes = sim.probe_records();
+  for (size_t k = 0; k < probes.size(); ++k)
+    out.append_probe(sim.model().probes[k].name, probes[k]);
+  const auto bprobes = sim.body_probe_records();
+  for (size_t k = 0; k < bprobes.size(); ++k)
+    out.append_body_probe(sim.model().body_probes[k].name, bprobes[k]);
+  return h;
+}
+
 int run_case(const Case& c, const RunOptions& opt) {
   using clock = std::chrono::steady_clock;
   const auto wall0 = clock::now();
@@ -526,20 +543,8 @@ int run_case(const Case& c, const RunOptions& opt) {
   }
   const RunInfo info = run_info(c);
   OutputFile out(path, info);
-  for (const auto& p : sim.model().probes) out.declare_probe(p.name);
-  for (const auto& p : sim.model().body_probes) out.declare_body_probe(p.name);
-
-  auto record = [&]() {
-    const HistoryRecord h = sim.history();
-    out.append_history(h);
-    const auto probes = sim.probe_records();
-    for (size_t k = 0; k < probes.size(); ++k)
-      out.append_probe(sim.model().probes[k].name, probes[k]);
-    const auto bprobes = sim.body_probe_records();
-    for (size_t k = 0; k < bprobes.size(); ++k)
-      out.append_body_probe(sim.model().body_probes[k].name, bprobes[k]);
-    return h;
-  };
+  declare_probes(out, sim);
+  auto record = [&]() { return record_history(out, sim); };
 
   const double end = c.sim.end_time;
   const double eps = 1e-12 * end;

@@ -93,4 +93,9 @@ int run_case(const Case& c, const RunOptions& opt);
 // The /run attributes of an output file of case c written by this build and backend.
 RunInfo run_info(const Case& c);
 
+// Declares the case's probes and body probes in out.
+void declare_probes(OutputFile& out, const Simulation& sim);
+// Appends the current history row and every probe's record to out; returns the history row.
+HistoryRecord record_history(OutputFile& out, Simulation& sim);
+
 }  // namespace fracta
