@@ -176,11 +176,19 @@ def plot_body_probes(f, out_dir, title):
     return save(fig, out_dir, "body_probes.png")
 
 
+def frame_count(f):
+    """Complete frames: /frames@count (a killed run may leave a partial /frames/K beyond it)."""
+    if "frames" not in f:
+        return 0
+    g = f["frames"]
+    return int(g.attrs["count"]) if "count" in g.attrs else len(g)
+
+
 def load_frame(f, k, field):
     """Geometry and `field` values of frame K: elements, discs and bonds (mm, field units)."""
     group = f"frames/{k}"
-    if group not in f:
-        frames = len(f["frames"]) if "frames" in f else 0
+    frames = frame_count(f)
+    if not 0 <= k < frames or group not in f:
         sys.exit(f"plot.py: {f.filename} has no frame {k} ({frames} frames)")
     g = f[group]
     kind, dataset, column, scale, _ = FIELDS[field]

@@ -29,7 +29,9 @@ def rotation_deg(x0, x):
 
 def main(path):
     f = h5py.File(path, "r")
-    frames = sorted(f["frames"], key=int)
+    # Complete frames only: /frames@count (a killed run may leave a partial frame beyond it).
+    count = int(f["frames"].attrs.get("count", len(f["frames"])))
+    frames = [str(k) for k in range(count)]
     x0 = f["frames"][frames[0]]["node_position"][:]
     times, tips = [], []
     for k in frames:

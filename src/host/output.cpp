@@ -295,6 +295,14 @@ struct OutputFile::Impl {
     }
   }
 
+  // Rewrites the existing scalar int64 attribute `count` of `obj` in place (no delete/create,
+  // so the object header keeps its layout).
+  void update_count(hid_t obj, std::int64_t value) {
+    const std::string what = "cannot write attribute " + where(obj, "") + " count";
+    Handle attr(id(H5Aopen(obj, "count", H5P_DEFAULT), what), H5Aclose);
+    ok(H5Awrite(attr.get(), H5Types<std::int64_t>::mem(), &value), what);
+  }
+
   // Empty 1-D extendible dataset for a growing series.
   void create_series(hid_t loc, const char* name, hid_t file_type) {
     const std::string what = "cannot create dataset " + where(loc, name);
@@ -405,6 +413,9 @@ struct OutputFile::Impl {
     probes = group(root, "probes");
     body_probes = group(root, "body_probes");
     frames = group(root, "frames");
+    // /frames@count is the number of complete frames (see write_frame): readers list frames by
+    // it, never by the group's links, which a killed run may leave pointing at a partial frame.
+    attribute(frames.get(), "count", static_cast<std::int64_t>(0));
     ok(H5Fflush(root, H5F_SCOPE_GLOBAL), "cannot flush");
   }
 
@@ -535,7 +546,14 @@ struct OutputFile::Impl {
     write_array(g.get(), "fragment_size", f.fragment_size, 1);
     g.reset();
     frame_info.push_back(std::move(info));
+    // Two flushes make a frame's listing atomic against SIGKILL. HDF5 may write dirty metadata
+    // whenever its cache evicts and a flush is many writes, so a kill can leave the link
+    // /frames/K on disk without its datasets (seen in CI). The first flush puts the frame's
+    // data and metadata on disk; only then is /frames@count, created once at open, rewritten
+    // in place (one fixed-size message in one object header, a single small write) and flushed.
     flush();
+    update_count(frames.get(), static_cast<std::int64_t>(frame_info.size()));
+    ok(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "cannot flush");
     write_xdmf();
   }
 

@@ -446,6 +446,8 @@ TEST_F(OutputFileTest, WritesEveryDatasetOfTheContract) {
 
   for (int k = 0; k < 3; ++k) expect_frame(file.id, k, frames[k]);
   EXPECT_FALSE(exists(file.id, "/frames/3"));
+  // Readers list frames by /frames@count (complete frames), written last for each frame.
+  EXPECT_EQ(read_attribute<std::int64_t>(file.id, "/frames", "count"), 3);
 
   // The .xdmf: one grid per frame with its time, and only references that resolve.
   ASSERT_TRUE(fs::exists(xdmf_));
@@ -644,6 +646,7 @@ TEST_F(OutputFileTest, KilledAfterTwoFramesLeavesReadableFile) {
   expect_frame(file.id, 0, f0);
   expect_frame(file.id, 1, f1);
   EXPECT_FALSE(exists(file.id, "/frames/2"));
+  EXPECT_EQ(read_attribute<std::int64_t>(file.id, "/frames", "count"), 2);
   expect_history(file.id, 90);
   EXPECT_EQ(dims_of(file.id, "/probes/tip/time"), (std::vector<hsize_t>{90}));
   EXPECT_EQ(read_attribute<std::string>(file.id, "/run", "backend"), "OpenMP");
