@@ -637,9 +637,9 @@ const KeyList kMaterialCommonKeys = {"name",
                                      "tensile_strength",
                                      "conversion_strain"};
 const std::map<MaterialModel, KeyList> kMaterialModelKeys = {
-    {MaterialModel::elastic, {}},
+    {MaterialModel::elastic, {"fracture_energy"}},
     {MaterialModel::bilinear_j2, {"yield_stress", "plastic_modulus", "tangent_modulus"}},
-    {MaterialModel::mohr_coulomb, {"cohesion", "friction_angle"}}};
+    {MaterialModel::mohr_coulomb, {"cohesion", "friction_angle", "fracture_energy"}}};
 
 // Slope of stress vs plastic strain: `plastic_modulus` H, or from `tangent_modulus` Et.
 double read_plastic_modulus(const Reader& r, double youngs_modulus) {
@@ -679,6 +679,11 @@ Material read_material(const Reader& r, Names& names) {
     m.cohesion = r.number("cohesion", Range::gt(0));
     m.friction_angle = r.number("friction_angle", Range::ge(0).lt(90)) * kPi / 180.0;
   }
+  // Quasi-brittle bonds soften over an opening 2 G_f / sigma_t after reaching the strength
+  // (bond_forces.hpp); bilinear_j2 bonds are elastoplastic instead (DESIGN.md 1.2).
+  m.fracture_energy = r.number("fracture_energy", Range::ge(0), 0.0);
+  if (m.fracture_energy > 0.0 && !(m.tensile_strength > 0.0))
+    r.fail("fracture_energy", "needs a tensile_strength > 0 (the softening starts there)");
   return m;
 }
 

@@ -67,6 +67,7 @@ struct Material {
   double friction_angle = 0;     // rad (file: degrees) (mohr_coulomb)
   double tensile_strength = 0;   // Pa; tension cut-off (mohr_coulomb) and bond strength; 0 = none
   double conversion_strain = 0;  // equivalent plastic strain that converts an element
+  double fracture_energy = 0;    // J/m^2, cohesive bond softening; 0 = brittle bonds
   SourcePos pos;
 };
 

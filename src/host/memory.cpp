@@ -58,7 +58,8 @@ constexpr double kLatticeElementBytes = 88;
 // 1030 B itemised).
 // Each slot also holds its end forces (48 B) and two node -> end entries (8 B, and 8 B on the
 // host while the list is built).
-constexpr double kConvertibleCellBytes = 4 * 108 + 32 + 16 + 232 + 350 + 4 * (48 + 16);
+// Cohesive state (damage, onset and final separation) adds 24 B per slot.
+constexpr double kConvertibleCellBytes = 4 * (108 + 24) + 32 + 16 + 232 + 350 + 4 * (48 + 16);
 // Contact discs (every node of a convertible body, the boundary nodes of the others): disc id,
 // position at the last build, binning, candidate pairs.
 constexpr double kDiscBytes = 56;

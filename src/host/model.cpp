@@ -264,6 +264,9 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   bonds.plastic_s = View<double*>("fracta::bond_plastic_s", nb);
   bonds.hardening = View<double*>("fracta::bond_hardening", nb);
   bonds.plastic_work = View<double*>("fracta::bond_plastic_work", nb);
+  bonds.damage = View<double*>("fracta::bond_damage", nb);
+  bonds.onset_separation = View<double*>("fracta::bond_onset_separation", nb);
+  bonds.final_separation = View<double*>("fracta::bond_final_separation", nb);
   model.element_bonds = to_device_rows("element_bonds", element_slots);
   std::vector<std::array<int, 2>> bond_cells(nb, std::array<int, 2>{-1, -1});
   for (int e = 0; e < ne; ++e)
@@ -310,6 +313,11 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
     BondLaw law;
     law.youngs_modulus_eff = s.youngs_modulus_eff;
     law.tensile_strength = mat.tensile_strength;
+    // Cohesive bonds: each bond's share of the crack area (BondLaw, bond_forces.hpp).
+    law.fracture_energy = mat.fracture_energy;
+    law.crack_area_factor[kBondEdge] = 1.0 / s.youngs_modulus_eff;
+    law.crack_area_factor[kBondDiagonal] =
+        (1.0 - s.poisson_ratio_eff) / (2.0 * std::sqrt(2.0) * s.youngs_modulus_eff);
     if (mat.model == MaterialModel::bilinear_j2) {
       law.yield_stress = mat.yield_stress;
       law.hardening = mat.plastic_modulus;

@@ -63,6 +63,9 @@ void for_each_state_view(StateViews& a, StateViews& b, F&& f) {
   f("bonds.plastic_s", bo.plastic_s, sb.plastic_s);
   f("bonds.hardening", bo.hardening, sb.hardening);
   f("bonds.plastic_work", bo.plastic_work, sb.plastic_work);
+  f("bonds.damage", bo.damage, sb.damage);
+  f("bonds.onset_separation", bo.onset_separation, sb.onset_separation);
+  f("bonds.final_separation", bo.final_separation, sb.final_separation);
   f("converted", a.converted, b.converted);
   f("contact_force_previous", a.contact_force_previous, b.contact_force_previous);
 }

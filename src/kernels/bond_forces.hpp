@@ -17,6 +17,17 @@ struct BondLaw {
   double tensile_strength = 0;    // Pa; 0 = no tensile failure
   double cohesion = 0;            // Pa; 0 = no shear failure
   double tan_friction = 0;        // tan(phi)
+  // Cohesive softening: G_f (J/m^2); 0 = brittle (the bond breaks at its strength). A bond
+  // that reached its strength then dissipates G_f times the crack area it stands for,
+  // A_b = kn L0 crack_area_factor[kind] (m^2): kn L0 / E for an edge bond and
+  // kn L0 (1 - nu) / (2 sqrt(2) E) for a diagonal (plane-strain E*, nu*). These are the shares
+  // of the face h t a straight crack along a lattice line cuts, in proportion to the energy
+  // each bond holds under uniaxial tension normal to that face (per row: one edge bond, k1,
+  // 1 / (1 + nu); two diagonals, k2, nu / (2 (1 + nu)) each), so such a crack dissipates G_f
+  // per unit area exactly (tested). kn is the bond's own stiffness, so a boundary edge with
+  // one cell carries half.
+  double fracture_energy = 0;
+  double crack_area_factor[2] = {0, 0};  // per BondKind (m^2 per (N/m) per m)
 };
 
 struct BondStepResult {
@@ -46,7 +57,7 @@ KOKKOS_INLINE_FUNCTION double bilinear_spring(double k, double u, double f_yield
 // centre (reference one-point gradients), Green-Lagrange strain E = (F^T F - I)/2 (rotation
 // invariant, so fragments may spin) less the cell's offset at conversion (its strain beyond the
 // elastic part then), and the lattice's own elastic law S = C : E (the C the bonds reproduce). A
-// cell with a broken bond is no longer a continuum: it is marked not intact.
+// cell with a broken or softening bond is no longer a continuum: it is marked not intact.
 inline void compute_cell_stress(const View<int*>& cells, int count,
                                 const View<int* [6]>& element_bonds,
                                 const View<const LatticeStiffness*>& stiffness,
@@ -58,7 +69,9 @@ inline void compute_cell_stress(const View<int*>& cells, int count,
         int intact = 1;
         for (int a = 0; a < 6; ++a) {
           const int b = element_bonds(e, a);
-          if (b >= 0 && bonds.state(b) == kBondBroken) intact = 0;
+          // A broken or softening (cracking) bond: the cell is no longer a continuum.
+          if (b >= 0 && (bonds.state(b) == kBondBroken || bonds.onset_separation(b) > 0.0))
+            intact = 0;
         }
         elements.cell_intact(e) = intact;
         double green[3];
@@ -72,6 +85,39 @@ inline void compute_cell_stress(const View<int*>& cells, int count,
         elements.cell_stress(e, 1) = c * (eyy + s.poisson_ratio_eff * exx);
         elements.cell_stress(e, 2) = s.youngs_modulus_eff / (1.0 + s.poisson_ratio_eff) * exy;
       });
+}
+
+// Cohesive bonds (BondLaw::fracture_energy > 0). Effective separation of a bond from its
+// undamaged spring forces: |(<u_n>, u_s)| with u = f / k (compression does not open a crack).
+KOKKOS_INLINE_FUNCTION double effective_separation(double fn, double fs, double kn, double ks) {
+  const double un = fn > 0.0 && kn > 0.0 ? fn / kn : 0.0;
+  const double us = ks > 0.0 ? fs / ks : 0.0;
+  return sqrt_(un * un + us * us);
+}
+
+// Energy a bond stores with applied forces fn, fs at damage D (J): the secant springs
+// (1 - D) k carry the tension and the shear; compression is carried undamaged.
+KOKKOS_INLINE_FUNCTION double stored_bond_energy(double fn, double fs, double damage, double kn,
+                                                 double ks) {
+  double e = 0.0;
+  if (kn > 0.0) e += 0.5 * fn * fn / (fn > 0.0 ? (1.0 - damage) * kn : kn);
+  if (ks > 0.0 && damage < 1.0) e += 0.5 * fs * fs / ((1.0 - damage) * ks);
+  return e;
+}
+
+// Trapezoidal work of the discs on a bond over a step (J): normal forces fn_old -> fn_new over
+// the change of the elastic elongation, from fn_old (at damage D_old) to the undamaged force
+// fn_trial of this step; shear forces fs_old -> fs_new over the shear increment. Elastic
+// bonds only: cohesive materials are elastic up to their strength.
+KOKKOS_INLINE_FUNCTION double bond_work(double fn_old, double fn_new, double fs_old, double fs_new,
+                                        double fn_trial, double damage_old, double kn,
+                                        double shear_increment) {
+  double w = 0.5 * (fs_old + fs_new) * shear_increment;
+  if (kn > 0.0) {
+    const double u_old = fn_old / (fn_old > 0.0 ? (1.0 - damage_old) * kn : kn);
+    w += 0.5 * (fn_old + fn_new) * (fn_trial / kn - u_old);
+  }
+  return w;
 }
 
 struct BondForces {
@@ -100,8 +146,13 @@ struct BondForces {
     const double fy_s = law.yield_stress * area / 1.7320508075688772;  // von Mises shear yield
     const double k_hard = law.hardening * area / L0;
     double up = bonds.plastic_n(b), us_p = bonds.plastic_s(b), alpha = bonds.hardening(b);
+    // fn, fs: the undamaged spring forces; a softening bond applies (1 - D) of them.
+    const bool cohesive = law.fracture_energy > 0.0;
+    const double damage_old = cohesive ? bonds.damage(b) : 0.0;
+    const double fn_old = bonds.fn(b), fs_old = bonds.fs(b);
     double fn = 0.0, fs = 0.0, plastic = 0.0;
     plastic += bilinear_spring(kn, length - L0, fy_n, k_hard, up, alpha, fn);
+    double shear_increment = 0.0;
     if (ks > 0.0) {
       // Shear displacement increment (paper Eq. 8 corrected): relative tangential velocity
       // of the contact point, with the disc rotations (DESIGN.md 1.2).
@@ -109,7 +160,8 @@ struct BondForces {
                          (nodes.v(j, 1) - nodes.v(i, 1)) * nx -
                          (li * nodes.spin(i) + lj * nodes.spin(j));
       // Shear displacement kept as the elastic part fs/ks plus the plastic slip.
-      const double us = bonds.fs(b) / ks + us_p + dvt * dt;
+      shear_increment = dvt * dt;
+      const double us = fs_old / ((1.0 - damage_old) * ks) + us_p + shear_increment;
       plastic += bilinear_spring(ks, us, fy_s, k_hard, us_p, alpha, fs);
     }
     // Failure (paper Sec. 2.3 with Eq. 6 corrected; DESIGN.md 1.2): Mohr-Coulomb with tension
@@ -142,16 +194,57 @@ struct BondForces {
         tau = area > 0.0 ? fabs_(fs) / area : 0.0;
       }
     }
-    const bool tension = law.tensile_strength > 0.0 && sigma_n >= law.tensile_strength;
-    const bool shear = law.cohesion > 0.0 && tau >= law.cohesion - sigma_n * law.tan_friction;
-    if (tension || shear) {
-      // Released as fracture energy: what the bond held, 1/2 f_old^2/k, plus what the discs did
-      // on it this step by the trapezoidal rule with the zero force it now applies,
-      // 1/2 f_old (f - f_old)/k: together 1/2 f_old f / k per spring. (Counting the trial
-      // energy 1/2 f^2/k would over-count by 1/2 f du per break and unbalance the energy.)
-      const double fn_old = bonds.fn(b), fs_old = bonds.fs(b);
+    double onset = cohesive ? bonds.onset_separation(b) : 0.0;
+    bool breaks = false;
+    if (onset == 0.0) {
+      const bool tension = law.tensile_strength > 0.0 && sigma_n >= law.tensile_strength;
+      const bool shear = law.cohesion > 0.0 && tau >= law.cohesion - sigma_n * law.tan_friction;
+      if (tension || shear) {
+        // Brittle: the bond breaks at its strength. Cohesive: it starts to soften from the
+        // effective separation lambda_0 it has now, and is spent at lambda_f, chosen so that
+        // it dissipates its share of G_f: along a proportional path the bilinear law
+        // dissipates E_0 lambda_f / lambda_0 (E_0 = what the bond stores at the onset; pure
+        // mode I: 1/2 f_0 lambda_f), so lambda_f = G_f A_b lambda_0 / E_0.
+        breaks = true;
+        if (cohesive) {
+          onset = effective_separation(fn, fs, kn, ks);
+          const double stored = stored_bond_energy(fn > 0.0 ? fn : 0.0, fs, 0.0, kn, ks);
+          const double share = law.fracture_energy * kn * L0 * law.crack_area_factor[bonds.kind(b)];
+          const double final_separation = stored > 0.0 ? share * onset / stored : 0.0;
+          if (onset > 0.0 && final_separation > onset) {
+            breaks = false;
+            bonds.onset_separation(b) = onset;
+            bonds.final_separation(b) = final_separation;
+          } else {
+            onset = 0.0;
+          }
+        }
+      }
+    }
+    double damage = damage_old;
+    if (onset > 0.0) {
+      // Linear softening of the effective traction against the effective separation
+      // lambda = |(<u_n>, u_s)| (the elastic displacements of the undamaged springs), from
+      // lambda_0 to lambda_f, with irreversible secant damage (the bilinear cohesive law)
+      //   D = lambda_f (lambda - lambda_0) / (lambda (lambda_f - lambda_0)).
+      const double lambda_f = bonds.final_separation(b);
+      const double lambda = effective_separation(fn, fs, kn, ks);
+      if (lambda >= lambda_f) {
+        breaks = true;
+      } else if (lambda > onset) {
+        damage = max_(damage, lambda_f * (lambda - onset) / (lambda * (lambda_f - onset)));
+      }
+    }
+    if (breaks) {
+      // Released as fracture energy: what the bond held, plus what the discs did on it this
+      // step by the trapezoidal rule with the zero force it now applies (for an undamaged
+      // bond 1/2 f_old^2/k + 1/2 f_old (f - f_old)/k = 1/2 f_old f / k per spring; counting
+      // the trial energy 1/2 f^2/k would over-count by 1/2 f du and unbalance the energy).
       double energy =
-          (kn > 0.0 ? 0.5 * fn_old * fn / kn : 0.0) + (ks > 0.0 ? 0.5 * fs_old * fs / ks : 0.0);
+          cohesive ? stored_bond_energy(fn_old, fs_old, damage_old, kn, ks) +
+                         bond_work(fn_old, 0.0, fs_old, 0.0, fn, damage_old, kn, shear_increment)
+                   : (kn > 0.0 ? 0.5 * fn_old * fn / kn : 0.0) +
+                         (ks > 0.0 ? 0.5 * fs_old * fs / ks : 0.0);
       // A bond that breaks while its discs overlap hands part of its energy to the contact
       // that takes over at once (1/2 k_c delta^2 with the contact law's series stiffness):
       // that part is not fracture energy, or the balance would count it twice.
@@ -170,6 +263,20 @@ struct BondForces {
       acc.v[1] += plastic;
       acc.v[2] += 1.0;
       return;
+    }
+    if (onset > 0.0) {
+      // A softening bond: the applied forces, and the energy the softening dissipated this
+      // step, the trapezoidal work of the discs on the bond less the change of what it stores
+      // (zero for an undamaged spring, so the balance is the elastic one until the onset).
+      const double fn_applied = fn > 0.0 ? (1.0 - damage) * fn : fn;
+      const double fs_applied = (1.0 - damage) * fs;
+      acc.v[0] +=
+          bond_work(fn_old, fn_applied, fs_old, fs_applied, fn, damage_old, kn, shear_increment) +
+          stored_bond_energy(fn_old, fs_old, damage_old, kn, ks) -
+          stored_bond_energy(fn_applied, fs_applied, damage, kn, ks);
+      fn = fn_applied;
+      fs = fs_applied;
+      bonds.damage(b) = damage;
     }
     bonds.fn(b) = fn;
     bonds.fs(b) = fs;

@@ -286,7 +286,10 @@ inline void finish_converted_bonds(const View<int*>& cells, int count,
             Kokkos::atomic_fetch_min(&nodes.radius(j), 0.5 * L);
             continue;
           }
-          const double up = L - bonds.length0(b) - bonds.fn(b) / bonds.kn(b);
+          // (A softening bond's tension is carried by its secant stiffness (1 - D) k.)
+          const double fn = bonds.fn(b);
+          const double up = L - bonds.length0(b) -
+                            fn / (fn > 0.0 ? (1.0 - bonds.damage(b)) * bonds.kn(b) : bonds.kn(b));
           bonds.plastic_n(b) = up;
           // Discs of a cell that flowed plastically (or was strongly sheared) before converting
           // are closer than their radii. Shrink them to the current distance of every pair of

@@ -1,5 +1,6 @@
 // Reductions for the energy balance and the conservation checks (DESIGN.md 1.4).
 #pragma once
+#include "kernels/bond_forces.hpp"
 #include "kernels/compat.hpp"
 #include "kernels/materials.hpp"
 #include "kernels/state.hpp"
@@ -69,8 +70,8 @@ inline LatticeTotals lattice_totals(const Nodes& nodes, const Bonds& bonds, doub
         KOKKOS_LAMBDA(const int k, Sums<3>& acc) {
           acc.v[1] += bonds.plastic_work(k);
           if (bonds.state(k) != kBondActive) return;
-          if (bonds.kn(k) > 0.0) acc.v[0] += 0.5 * bonds.fn(k) * bonds.fn(k) / bonds.kn(k);
-          if (bonds.ks(k) > 0.0) acc.v[0] += 0.5 * bonds.fs(k) * bonds.fs(k) / bonds.ks(k);
+          acc.v[0] += stored_bond_energy(bonds.fn(k), bonds.fs(k), bonds.damage(k), bonds.kn(k),
+                                         bonds.ks(k));
           acc.v[2] += 1.0;
         },
         Kokkos::Sum<Sums<3>>(b));

@@ -62,7 +62,14 @@ struct Bonds {
   View<double*> plastic_s;     // plastic slip (m) of the bilinear shear spring
   View<double*> hardening;     // accumulated plastic displacement (m), isotropic hardening
   View<double*> plastic_work;  // cumulative (J)
-  View<int* [2]> cells;        // converted cells whose face (edge) or body (diagonal) it is; -1
+  // Cohesive softening (material fracture_energy > 0; bond_forces.hpp): damage D in [0, 1) of
+  // an active bond, its effective separation at the onset of softening (m; 0 = not
+  // softening) and the one at which it is spent. The applied forces are (1 - D) times the undamaged
+  // ones (normal: in tension).
+  View<double*> damage;
+  View<double*> onset_separation;
+  View<double*> final_separation;  // effective separation at which it breaks (m)
+  View<int* [2]> cells;            // converted cells whose face (edge) or body (diagonal) it is; -1
   // Forces without atomics: each bond writes what it applies to its two ends (fx, fy in N,
   // moment in N m), and each disc gathers its ends through the CSR list node -> (2 b + end).
   // A bond that is not active holds zeros (set when it breaks), so the gather needs no test.

@@ -278,6 +278,10 @@ const BadCase kBadCases[] = {
     {"unknown_output_field.toml", 23, "output.fields", "unknown field 'strain'"},
     {"boundary_segment_and_shape.toml", 24, "boundary[0].shape", "not both"},
     {"no_body.toml", 1, "body", "at least one [[body]] is required"},
+    {"fracture_energy_without_strength.toml", 11, "material['glass'].fracture_energy",
+     "needs a tensile_strength > 0"},
+    {"fracture_energy_on_j2.toml", 13, "material['steel'].fracture_energy",
+     "does not apply to model 'bilinear_j2'"},
 };
 
 INSTANTIATE_TEST_SUITE_P(CaseFiles, CaseBadFile, ::testing::ValuesIn(kBadCases),

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <vector>
 
 #include "host/simulation.hpp"
 #include "test_util.hpp"
@@ -108,6 +110,85 @@ TEST(LatticeFailure, UniaxialTensionFailsAtTensileStrength) {
     RecordProperty(std::string("failure_stress_") + to_string(f), std::to_string(r.failure_stress));
     RecordProperty(std::string("worst_error_") + to_string(f), std::to_string(r.worst_error));
   }
+}
+
+// Cohesive bonds (material fracture_energy G_f): a notched lattice bar pulled apart by a ramped
+// traction cracks through its ligament, and the crack must dissipate G_f times its area
+// (ligament x thickness) whatever the cell size, where brittle bonds dissipate only the tiny
+// elastic energy they held. The notches (1 mm deep, top and bottom, in the middle) make the
+// crack run through the ligament's cells, cutting its edge and diagonal bonds.
+struct CohesiveRun {
+  double fracture, failure_stress, worst_error;
+  long broken;
+  size_t fragments;
+};
+
+CohesiveRun run_cohesive(int refine, double fracture_energy) {
+  const double h = 1e-3 / refine, E = 92e9, nu = 0.21, rho = 2400.0, sigma_t = 2.3e6;
+  const int nx = 20 * refine, ny = 10 * refine;
+  Case c = test::rectangle_case(nx, ny, h, E, nu, rho, Formulation::plane_stress);
+  c.bodies[0].method = BodyMethod::de;
+  c.materials[0].tensile_strength = sigma_t;
+  c.materials[0].fracture_energy = fracture_energy;
+  for (double y : {0.0, 9e-3}) {
+    Shape notch;
+    notch.type = Shape::Type::rectangle;
+    notch.x = 10e-3;
+    notch.y = y;
+    notch.width = 1e-3;
+    notch.height = 1e-3;
+    c.bodies[0].cuts.push_back(notch);
+  }
+  const double L = 20e-3, H = 10e-3;
+  const double ramp = 200 * L / std::sqrt(E / rho);  // traction reaches sigma_t
+  test::add_pressure(c, test::segment(L, 0, L, H), {0.0, ramp}, {0.0, -sigma_t});
+  test::add_fixed(c, test::segment(0, 0, 0, H), Boundary::Type::fixed_x);
+  c.sim.end_time = ramp;
+  Simulation sim(c);
+  CohesiveRun r{0, -1, 0, 0, 0};
+  while (sim.time() < c.sim.end_time * (1 - 1e-12) && !sim.failed()) {
+    sim.step();
+    const HistoryRecord hr = sim.history();
+    r.worst_error = std::max(r.worst_error, hr.energy.error);
+    if (r.failure_stress < 0 && hr.count.broken_bonds > 0)
+      r.failure_stress = sigma_t * sim.time() / ramp;
+  }
+  EXPECT_FALSE(sim.failed()) << sim.failure();
+  r.fracture = sim.history().energy.fracture;
+  r.broken = sim.history().count.broken_bonds;
+  r.fragments = sim.frame({}).fragment_mass.size();
+  return r;
+}
+
+// Tolerances: the crack dissipates G_f A to within +10% / -2% (measured +5% at 1 mm cells, +8%
+// at 0.5 mm: the excess is the partial softening of bonds beside the crack, which a lattice
+// cannot avoid); the two cell sizes agree within 5% (measured 3%), and twice G_f dissipates
+// twice the energy within 5%. The energy balance closes within 1% (measured ~1e-9: the
+// softening's dissipation is the exact trapezoidal work less the change of stored energy).
+TEST(LatticeFailure, CohesiveCrackDissipatesTheFractureEnergyAtAnyCellSize) {
+  const double fracture_energy = 1.0;     // J/m^2
+  const double crack_area = 8e-3 * 0.01;  // ligament x thickness (m^2)
+  const double expected = fracture_energy * crack_area;
+  std::vector<double> ratio;
+  for (int refine : {1, 2}) {
+    const CohesiveRun r = run_cohesive(refine, fracture_energy);
+    EXPECT_EQ(r.fragments, 2u) << refine;  // the bar did separate, in two
+    EXPECT_GT(r.fracture, 0.98 * expected) << "cells of " << 1.0 / refine << " mm";
+    EXPECT_LT(r.fracture, 1.10 * expected) << "cells of " << 1.0 / refine << " mm";
+    EXPECT_LT(r.worst_error, 0.01) << refine;
+    ratio.push_back(r.fracture / expected);
+    RecordProperty("fracture_over_Gf_area_refine" + std::to_string(refine),
+                   std::to_string(ratio.back()));
+    std::printf(
+        "cells of %.2f mm: fracture energy / (G_f A) = %.4f, first bond broken at a "
+        "nominal %.3f MPa, %ld bonds broken, worst energy error %.1e\n",
+        1.0 / refine, ratio.back(), r.failure_stress / 1e6, r.broken, r.worst_error);
+  }
+  EXPECT_NEAR(ratio[1] / ratio[0], 1.0, 0.05);
+  const CohesiveRun twice = run_cohesive(1, 2.0 * fracture_energy);
+  EXPECT_EQ(twice.fragments, 2u);
+  EXPECT_NEAR(twice.fracture / (2.0 * expected), ratio[0], 0.05 * ratio[0]);
+  std::printf("2 G_f: fracture energy / (2 G_f A) = %.4f\n", twice.fracture / (2.0 * expected));
 }
 
 // Shear test: a lattice block of a Mohr-Coulomb material under a confining pressure p (ramped
