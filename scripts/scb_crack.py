@@ -3,11 +3,14 @@
 
 From every frame of OUT.h5: the crack tip is the highest broken bond (its midpoint) within
 3 mm of the specimen's axis that is joined to the notch tip (y = 5 mm) by broken bonds less
-than 1.5 mm apart (1.5 cells), so damage under the loading point is not taken for the tip. The crack speed is the slope of a
-straight-line fit of tip height vs time in two segments: the lower and upper halves of the
-ligament (5-12.5 mm and 12.5-20 mm). The fragment rotation at the last frame (160 us) is the
-rigid rotation (2D Kabsch fit) of the nodes of each half (|x| > 3 mm) from their reference
-positions; the mean of the two magnitudes is reported.
+than 1.5 mm apart (1.5 cells), so damage under the loading point is not taken for the tip.
+The crack speeds are measured like crack gauges: the distance between two heights over the
+time the tip takes from one to the other (first frame at or above each), for the lower half
+of the ligament (5.4-12.5 mm) and the upper half (12.5-19 mm, up to 1 mm below the apex,
+where the load is applied); their resolution is the frame interval ("inf": both heights
+passed within one frame). The fragment rotation at the last frame (160 us) is the rigid
+rotation (2D Kabsch fit) of the nodes of each half (|x| > 3 mm) from their reference positions;
+the mean of the two magnitudes is reported.
 
 Usage: /usr/bin/python3 scripts/scb_crack.py OUT.h5
 """
@@ -58,14 +61,26 @@ def main(path):
     for t, y in zip(times, tips):
         print(f"  {t*1e6:7.1f}  {y*1e3:6.2f}")
 
-    def speed(lo, hi):
-        sel = (tips > lo) & (tips <= hi)
-        if sel.sum() < 2:
-            return float("nan")
-        return float(np.polyfit(times[sel], tips[sel], 1)[0])
+    def reached(y):
+        """First frame time at which the tip is at or above y (nan if never)."""
+        hit = np.nonzero(tips >= y - 1e-9)[0]
+        return float(times[hit[0]]) if len(hit) else float("nan")
 
-    mid = 0.5 * (NOTCH_TIP + TOP)
-    s1, s2 = speed(NOTCH_TIP, mid), speed(mid, TOP)
+    # Like crack gauges: the time the tip takes between three heights (the first bond above
+    # the notch tip, mid-ligament, 1 mm below the apex, where the load is applied).
+    gauges = (NOTCH_TIP + 0.4e-3, 0.5 * (NOTCH_TIP + TOP), TOP - 1e-3)
+    t_gauge = [reached(y) for y in gauges]
+    def speed(k):
+        # Both heights passed within one frame: faster than the frames resolve (inf).
+        dt = t_gauge[k + 1] - t_gauge[k]
+        return (gauges[k + 1] - gauges[k]) / dt if dt > 0 else float("inf") if dt == 0 else dt
+
+    s1, s2 = speed(0), speed(1)
+    dt_frame = float(np.median(np.diff(times))) if len(times) > 1 else float("nan")
+    print()
+    print("Crack tip reaches y = " + ", ".join(
+        f"{y*1e3:.1f} mm at {t*1e6:.0f} us" for y, t in zip(gauges, t_gauge)) +
+        f" (frames every {dt_frame*1e6:.1f} us)")
     last = f["frames"][frames[-1]]["node_position"][:]
     left, right = x0[:, 0] < -AXIS_BAND, x0[:, 0] > AXIS_BAND
     rot = 0.5 * (abs(rotation_deg(x0[left], last[left])) + abs(rotation_deg(x0[right], last[right])))
