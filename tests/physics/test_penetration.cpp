@@ -36,7 +36,9 @@ PenetrationResult run_coarse() {
   return {0.03 - bottom, -bp[0].vy, sim.conversions(), worst};
 }
 
-// At 3.33 mm cells every slab cell converts (216 of 216); depth 3.03 mm (1 thread), 2.99 mm (2).
+// At 3.33 mm cells every slab cell converts (216 of 216); depth 3.03 mm (1 thread), 2.99 mm (2)
+// with brittle bonds; with the case's cohesive concrete (fracture_energy 130 J/m^2) 3.02 mm on
+// 1 and 2 threads.
 constexpr double kReferenceDepth = 3.0e-3, kReferenceConversions = 216;
 
 // Reference values measured when the test was written (OpenMP, 1 and 2 threads). The run
@@ -53,6 +55,28 @@ TEST(Penetration, CoarseRegressionOnDepthAndConversions) {
   EXPECT_NEAR(static_cast<double>(r.conversions), kReferenceConversions,
               0.05 * kReferenceConversions);
   EXPECT_LT(r.worst_error, 0.05);
+}
+
+// The projectile stays `fe` (steel's nu = 0.3 in plane strain is outside the lattice's range,
+// DESIGN.md 1.2): the issue asks to show that it would not have converted anyway. The case as
+// shipped (1.667 mm cells) to 100 us, past the deceleration (200 -> 125 m/s by 60 us): the
+// projectile's largest equivalent plastic strain must stay below steel's conversion strain
+// (0.5, the default for bilinear_j2); measured 0.24 over the whole 300 us run.
+TEST(Penetration, ProjectileStaysBelowItsConversionStrain) {
+  Case c = load_case(std::string(FRACTA_SOURCE_DIR) + "/cases/penetration.toml",
+                     {"simulation.end_time=100e-6"});
+  Simulation sim(c);
+  while (sim.time() < c.sim.end_time * (1 - 1e-12) && !sim.failed()) sim.step();
+  ASSERT_FALSE(sim.failed()) << sim.failure();
+  const BodyRange& p = sim.model().mesh.bodies[1];
+  const Elements& el = sim.model().elements;
+  auto epeq = Kokkos::create_mirror_view_and_copy(HostSpace(), el.epeq);
+  double worst = 0;
+  for (int q = p.element_begin * el.qp_per_element; q < p.element_end * el.qp_per_element; ++q)
+    worst = std::max(worst, epeq(q));
+  RecordProperty("projectile_max_plastic_strain", std::to_string(worst));
+  EXPECT_GT(worst, 0.01);  // it did yield: the check is not vacuous
+  EXPECT_LT(worst, c.materials[c.bodies[1].material_index].conversion_strain);
 }
 
 }  // namespace
