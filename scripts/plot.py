@@ -8,7 +8,8 @@
     plot.py OUT.h5 --frame K [--field FIELD] [--bonds | --no-bonds] [-o DIR]
         field_<field>_<K>.png   frame K (only this plot): elements coloured by FIELD, discs as
                                 circles of their true radius, active bonds as thin grey lines,
-                                broken bonds (cracks) as red lines
+                                broken bonds (cracks) as red lines,
+                                softening cohesive bonds as orange ones
     plot.py OUT.h5 --frames K1,K2,K3,K4 [--field FIELD] [-o DIR]
         field_<field>_<K1>-<K2>-...png   those frames as panels of one figure, one colour scale
     FIELD: plastic_strain, von_mises (default), pressure, sxx, syy, szz, sxy (elements; discs
@@ -61,6 +62,7 @@ SIGNED = {"pressure", "sxx", "syy", "szz", "sxy", "rotation", "spin"}
 ELEMENT_NEUTRAL = "#c8c8c8"  # elements when the field is a disc quantity
 DISC_NEUTRAL = "#e3d3a8"     # discs when the field is an element quantity
 BOND_ACTIVE = "#6e6e6e"
+BOND_SOFTENING = "#ff9f1c"  # orange: cohesive bonds softening
 BOND_BROKEN = "#d62728"
 MAX_AUTO_BONDS = 20000       # above this many bonds, only broken ones are drawn by default
 BROKEN_REACH = 3.0           # broken bonds longer than this x (sum of the radii) are not drawn
@@ -197,6 +199,7 @@ def load_frame(f, k, field):
     particles = g["particle_node"][:] if "particle_node" in g else np.zeros(0, dtype=int)
     bonds = g["bond_nodes"][:] if "bond_nodes" in g else np.zeros((0, 2), dtype=int)
     state = g["bond_state"][:] if "bond_state" in g else np.zeros(0, dtype=int)
+    damage = g["bond_damage"][:] if "bond_damage" in g else np.zeros(state.shape[0])
     if conn.shape[0] == 0 and particles.size == 0:
         sys.exit(f"plot.py: frame {k} has no elements and no discs")
     radius = np.zeros(pos.shape[0])  # per node, 0 for non-disc nodes
@@ -207,7 +210,7 @@ def load_frame(f, k, field):
           "disc_xy": pos[particles], "disc_r": (g["particle_radius"][:] * MM
                                                 if particles.size else np.zeros(0)),
           "bonds": pos[bonds] if bonds.shape[0] else np.zeros((0, 2, 2)), "state": state,
-          "element_values": None, "disc_values": None}
+          "damage": damage, "element_values": None, "disc_values": None}
     if kind == "element" and conn.shape[0]:
         if dataset not in g:
             have = sorted(n for n, v in FIELDS.items() if v[0] != "element" or v[1] in g)
@@ -261,9 +264,14 @@ def draw_frame(ax, fr, cmap, norm, bonds):
     if bonds == "auto":
         bonds = "all" if segments.shape[0] < MAX_AUTO_BONDS else "broken"
     broken = state == 2
-    if bonds == "all" and np.any(state == 1):
-        ax.add_collection(LineCollection(segments[state == 1], colors=BOND_ACTIVE,
+    softening = (state == 1) & (fr["damage"] > 0.0)
+    if bonds == "all" and np.any((state == 1) & ~softening):
+        ax.add_collection(LineCollection(segments[(state == 1) & ~softening], colors=BOND_ACTIVE,
                                          linewidths=0.3, zorder=3))
+    # Cohesive bonds past their strength (damage 0 < D < 1): the process zone ahead of a crack.
+    if bonds in ("all", "broken") and np.any(softening):
+        ax.add_collection(LineCollection(segments[softening], colors=BOND_SOFTENING,
+                                         linewidths=0.6, zorder=4))
     # A broken bond whose discs have moved apart by more than a few diameters is not drawn:
     # the gap between the fragments shows that crack, a long red line would only hide it.
     length = np.linalg.norm(segments[:, 1] - segments[:, 0], axis=1)

@@ -36,7 +36,7 @@
 //   Cell Centers (one point per disc, the cell arrays become point arrays), then the "Point
 //   Gaussian" representation, Shader Preset "Plain circle", Scale By Array with Scale Array
 //   particle_radius and Use Scale Function off, Gaussian Radius 1 (true radii). Bonds:
-//   bond_state (1 active, 2 broken) and bond_normal_force, Cell attributes.
+//   bond_state (1 active, 2 broken), bond_normal_force and bond_damage, Cell attributes.
 // - A frame without nodes or elements, discs or bonds is left out of that collection (an XML
 //   comment says so), and a collection empty in every frame is left out (a pure-FE run has only
 //   "mesh"): empty grids crash the Xdmf3 readers and fail in the XDMF Reader. The .h5 still
@@ -507,6 +507,7 @@ struct OutputFile::Impl {
     check_size("particle_spin", f.particle_spin.size(), p);
     check_size("bond_state", f.bond_state.size(), b);
     check_size("bond_normal_force", f.bond_normal_force.size(), b);
+    check_size("bond_damage", f.bond_damage.size(), b);
     // An out-of-range id would make ParaView's readers crash, not fail.
     check_node_ids("particle_node", f.particle_node, n);
     check_node_ids("bond_nodes", f.bond_nodes, n);
@@ -541,6 +542,7 @@ struct OutputFile::Impl {
     write_array(g.get(), "bond_nodes", f.bond_nodes, 2);
     write_array(g.get(), "bond_state", f.bond_state, 1);
     write_array(g.get(), "bond_normal_force", f.bond_normal_force, 1);
+    write_array(g.get(), "bond_damage", f.bond_damage, 1);
     write_array(g.get(), "node_fragment", f.node_fragment, 1);
     write_array(g.get(), "fragment_mass", f.fragment_mass, 1);
     write_array(g.get(), "fragment_size", f.fragment_size, 1);
@@ -625,6 +627,7 @@ struct OutputFile::Impl {
       case GridKind::bonds:
         xdmf_attribute<int>(x, k, "bond_state", "Scalar", "Cell", b);
         xdmf_attribute<double>(x, k, "bond_normal_force", "Scalar", "Cell", b);
+        xdmf_attribute<double>(x, k, "bond_damage", "Scalar", "Cell", b);
         break;
     }
     x << "      </Grid>\n";

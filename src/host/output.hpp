@@ -73,6 +73,7 @@ struct FrameData {
   // force (N, tension positive; 0 once broken).
   std::vector<int> bond_nodes, bond_state;
   std::vector<double> bond_normal_force;
+  std::vector<double> bond_damage;  // cohesive damage D in [0, 1] (1 once broken, 0 if brittle)
   // Fragments (connected components over active bonds and alive elements): per node its
   // fragment label (the smallest node id in it), and each fragment's mass (kg, largest first)
   // and node count.

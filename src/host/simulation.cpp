@@ -431,12 +431,14 @@ FrameData Simulation::frame(const std::vector<std::string>& fields) {
     auto state = Kokkos::create_mirror_view_and_copy(HostSpace(), b.state);
     auto ends = Kokkos::create_mirror_view_and_copy(HostSpace(), b.nodes);
     auto fn = Kokkos::create_mirror_view_and_copy(HostSpace(), b.fn);
+    auto damage = Kokkos::create_mirror_view_and_copy(HostSpace(), b.damage);
     for (int k = 0; k < b.count; ++k)
       if (state(k) != kBondInactive) {
         f.bond_nodes.push_back(ends(k, 0));
         f.bond_nodes.push_back(ends(k, 1));
         f.bond_state.push_back(state(k));
         f.bond_normal_force.push_back(fn(k));
+        f.bond_damage.push_back(state(k) == kBondBroken ? 1.0 : damage(k));
       }
   }
   return f;

@@ -508,10 +508,10 @@ TEST(Checkpoint, SigkillLeavesAReadableOutputWithEveryListedFrame) {
     EXPECT_LE(static_cast<long>(links), frames + 1) << out;
     std::vector<double> v;
     for (long k = 0; k < frames; ++k) {
-      // Every listed frame is complete: all 20 datasets of this scene's frames (time, step,
-      // 3 node, 5 element, 4 disc, 3 bond, 3 fragment arrays) are there and read.
+      // Every listed frame is complete: all 21 datasets of this scene's frames (time, step,
+      // 3 node, 5 element, 4 disc, 4 bond, 3 fragment arrays) are there and read.
       const auto names = datasets_under(f.id, "/frames/" + std::to_string(k));
-      EXPECT_EQ(names.size(), 20u) << out << ": frame " << k;
+      EXPECT_EQ(names.size(), 21u) << out << ": frame " << k;
       for (const std::string& name : names)
         EXPECT_TRUE(read_doubles(f.id, name, v)) << out << ": " << name;
     }

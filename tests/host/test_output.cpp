@@ -109,6 +109,7 @@ void add_discs(FrameData& f, int count, const std::vector<int>& broken) {
       f.bond_nodes.insert(f.bond_nodes.end(), {first + i, first + i + step});
       f.bond_state.push_back(is_broken ? 2 : 1);
       f.bond_normal_force.push_back(is_broken ? 0.0 : 125.5 * k - 400.0);
+      f.bond_damage.push_back(is_broken ? 1.0 : 0.01 * k);
     }
 }
 
@@ -323,10 +324,11 @@ void expect_frame(hid_t file, int k, const FrameData& f) {
   expect_frame_array(file, g + "/bond_nodes", f.bond_nodes, {b, 2});
   expect_frame_array(file, g + "/bond_state", f.bond_state, {b});
   expect_frame_array(file, g + "/bond_normal_force", f.bond_normal_force, {b});
+  expect_frame_array(file, g + "/bond_damage", f.bond_damage, {b});
   for (const char* name : {"particle_node", "bond_nodes", "bond_state"})
     EXPECT_EQ(type_of(file, g + "/" + name), std::make_pair(H5T_INTEGER, size_t{4})) << name;
-  for (const char* name :
-       {"particle_radius", "particle_rotation", "particle_spin", "bond_normal_force"})
+  for (const char* name : {"particle_radius", "particle_rotation", "particle_spin",
+                           "bond_normal_force", "bond_damage"})
     EXPECT_EQ(type_of(file, g + "/" + name), std::make_pair(H5T_FLOAT, size_t{8})) << name;
 }
 
@@ -519,8 +521,8 @@ TEST_F(OutputFileTest, WritesDiscsAndBonds) {
                                 R"(NodesPerElement="2")"),
             3);
   EXPECT_NE(text.find(R"(NumberOfElements="9" NodesPerElement="2")"), std::string::npos);
-  for (const char* name :
-       {"particle_radius", "particle_rotation", "particle_spin", "bond_state", "bond_normal_force"})
+  for (const char* name : {"particle_radius", "particle_rotation", "particle_spin", "bond_state",
+                           "bond_normal_force", "bond_damage"})
     EXPECT_EQ(count_matches(text, std::string("<Attribute Name=\"") + name +
                                       R"(" AttributeType="Scalar" Center="Cell">)"),
               3)
@@ -529,8 +531,8 @@ TEST_F(OutputFileTest, WritesDiscsAndBonds) {
   EXPECT_EQ(text.find("out.h5:/frames/0/particle"), std::string::npos);
   EXPECT_EQ(text.find("out.h5:/frames/3/element"), std::string::npos);
   // Mesh grids: 6 references each + fields (1 stress, 1 von Mises, 2); disc grids 7, bond
-  // grids 4.
-  EXPECT_EQ(check_xdmf_references(file.id), 3 * 6 + 1 + 1 + 2 + 3 * 7 + 3 * 4);
+  // grids 5 (topology, geometry, state, normal force, damage).
+  EXPECT_EQ(check_xdmf_references(file.id), 3 * 6 + 1 + 1 + 2 + 3 * 7 + 3 * 5);
 }
 
 TEST_F(OutputFileTest, EmptyFramesWriteZeroSizeDatasets) {
@@ -596,6 +598,10 @@ TEST_F(OutputFileTest, ErrorsNameThePathAndWhatFailed) {
   d = make_frame(2, 1, 0.0, 0, {});
   add_discs(d, 3, {});
   d.bond_normal_force.push_back(1.0);
+  EXPECT_THROW(out.write_frame(d), std::runtime_error);
+  d = make_frame(2, 1, 0.0, 0, {});
+  add_discs(d, 3, {});
+  d.bond_damage.pop_back();
   EXPECT_THROW(out.write_frame(d), std::runtime_error);
   d = make_frame(2, 1, 0.0, 0, {});
   add_discs(d, 3, {});
