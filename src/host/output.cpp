@@ -1,16 +1,30 @@
 // HDF5 output (DESIGN.md 3.3) and the XDMF side file that lets ParaView open it.
 //
 // File format choices:
-// - libver bounds (earliest, v18): superblock version 0/2. A 1.10 "latest" file (superblock 3)
-//   records "open for writing" in its superblock, and a process killed while writing would leave
-//   a file that readers refuse to open until `h5clear -s` is run. With these bounds a killed run
-//   leaves a file readable as of its last H5Fflush (every frame).
+// - Crash safety by atomic replacement, not by flushing: HDF5 1.10 updates its metadata in place
+//   in many writes (B-tree splits, heap moves, the superblock's end-of-file address), so a
+//   process killed inside a flush could leave a file that does not open, or whose older frames
+//   are lost (both seen: "addr overflow" and empty frame groups, in about 5% of kills on a
+//   loaded machine). So no file is ever modified after it is closed:
+//     * frame K is written to OUT.h5.frames/K.h5 (group /frame) through K.h5.tmp and a rename;
+//     * OUT.h5 itself is written whole to OUT.h5.tmp at every commit (each frame, each
+//       checkpoint, the end) and renamed over the old one: /run, /history and the probes (the
+//       series copied from the previous OUT.h5 with H5Ocopy, then the new rows appended), and
+//       /frames/K as external links to the frame files (HDF5 and h5py follow them; relative to
+//       OUT.h5's directory);
+//     * finish() consolidates: the last commit copies every frame into /frames/K of OUT.h5
+//       itself and removes OUT.h5.frames, so a completed (or interrupted, or failed) run is one
+//       self-contained file. A killed run leaves OUT.h5 + OUT.h5.frames/, complete as of its
+//       last commit; OUT.h5 must then be moved together with OUT.h5.frames.
+//   A rename is atomic, so at every instant OUT.h5 is one complete file. Cost: each commit
+//   copies the history series (O(rows), at raw I/O speed), and finish() copies the frames once.
+// - libver bounds (earliest, v18): superblock version 0/2, readable by any HDF5 1.8+.
 // - Strings (version, backend, case, case_path, status) are scalar variable-length UTF-8 string
 //   attributes. Variable-length data lives in the global heap, so the 64 KiB object-header limit
 //   does not apply and the whole case text is always the attribute /run/case (tested with
 //   200 KB); h5py reads them as str.
-// - History and probe series are 1-D chunked datasets (chunk 4096 rows, unlimited maximum) that
-//   grow on every flush(); frame arrays are contiguous datasets written once.
+// - History and probe series are 1-D chunked datasets (chunk 512 rows, unlimited maximum) that
+//   grow at every commit; frame arrays are contiguous datasets written once.
 //
 // XDMF choices (checked with ParaView 5.11's three readers, "XDMF Reader", "Xdmf3 Reader S" and
 // "Xdmf3 Reader T", through pvbatch):
@@ -61,7 +75,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr hsize_t kChunkRows = 4096;
+constexpr hsize_t kChunkRows = 512;  // 4 KB per double series: small files to rewrite
 
 // Owns one HDF5 identifier and closes it with the matching H5?close.
 class Handle {
@@ -228,7 +242,9 @@ std::string xml_escape(const std::string& s) {
 
 struct OutputFile::Impl {
   std::string path, xdmf_path, h5_name;
-  Handle file, history, probes, body_probes, frames;
+  std::string frames_dir, frames_rel;  // OUT.h5.frames: absolute-or-given, and its file name
+  RunInfo info;
+  bool committed = false;  // `path` holds a complete output (the last commit)
   std::vector<HistoryRecord> history_rows;
   std::map<std::string, std::vector<ProbeRecord>> probe_rows;
   std::map<std::string, std::vector<BodyProbeRecord>> body_probe_rows;
@@ -293,14 +309,6 @@ struct OutputFile::Impl {
           H5Aclose);
       ok(H5Awrite(attr.get(), H5Types<T>::mem(), &value), what);
     }
-  }
-
-  // Rewrites the existing scalar int64 attribute `count` of `obj` in place (no delete/create,
-  // so the object header keeps its layout).
-  void update_count(hid_t obj, std::int64_t value) {
-    const std::string what = "cannot write attribute " + where(obj, "") + " count";
-    Handle attr(id(H5Aopen(obj, "count", H5P_DEFAULT), what), H5Aclose);
-    ok(H5Awrite(attr.get(), H5Types<std::int64_t>::mem(), &value), what);
   }
 
   // Empty 1-D extendible dataset for a growing series.
@@ -379,44 +387,128 @@ struct OutputFile::Impl {
 
   // --- operations ------------------------------------------------------------------------
 
-  void open(const RunInfo& info) {
+  Handle create_file(const std::string& file_path) {
+    Handle fapl(id(H5Pcreate(H5P_FILE_ACCESS), "cannot create file access properties"), H5Pclose);
+    ok(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_EARLIEST, H5F_LIBVER_V18),
+       "cannot set library version bounds");
+    return Handle(id(H5Fcreate(file_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
+                     "cannot create file " + file_path),
+                  H5Fclose);
+  }
+
+  Handle open_read(const std::string& file_path) {
+    return Handle(
+        id(H5Fopen(file_path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "cannot open " + file_path),
+        H5Fclose);
+  }
+
+  static void rename_over(const std::string& from, const std::string& to, const std::string& path) {
+    if (std::rename(from.c_str(), to.c_str()) != 0)
+      throw std::runtime_error("output " + path + ": cannot rename " + from + " to " + to);
+  }
+
+  std::string frame_file(std::size_t k) const {
+    return frames_dir + "/" + std::to_string(k) + ".h5";
+  }
+
+  void open(const RunInfo& run_info) {
+    info = run_info;
     fs::path p(path);
     h5_name = p.filename().string();
     fs::path x = p;
     x.replace_extension(".xdmf");
     if (x == p) x = fs::path(path + ".xdmf");
     xdmf_path = x.string();
+    frames_dir = path + ".frames";
+    frames_rel = h5_name + ".frames";
 
-    Handle fapl(id(H5Pcreate(H5P_FILE_ACCESS), "cannot create file access properties"), H5Pclose);
-    ok(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_EARLIEST, H5F_LIBVER_V18),
-       "cannot set library version bounds");
-    file = Handle(
-        id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), "cannot create file"),
-        H5Fclose);
-    // A .xdmf left by an earlier run would describe frames this file no longer has.
+    // What an earlier run of the same name left: a .xdmf describing frames this run will not
+    // have, its frame files, a half-written OUT.h5.tmp.
     std::error_code ignored;
     fs::remove(xdmf_path, ignored);
+    fs::remove_all(frames_dir, ignored);
+    fs::remove(path + ".tmp", ignored);
+    commit(nullptr, false);
+  }
 
-    const hid_t root = file.get();
-    Handle run = group(root, "run");
-    attribute(run.get(), "version", info.version);
-    attribute(run.get(), "backend", info.backend);
-    attribute(run.get(), "threads", info.threads);
-    attribute(run.get(), "case", info.case_text);
-    attribute(run.get(), "case_path", info.case_path);
+  struct FinalAttributes {
+    long steps;
+    double wall_seconds;
+    std::string status;
+  };
 
-    history = group(root, "history");
-    group(history.get(), "energy");
-    group(history.get(), "count");
-    create_columns(history.get(), kHistoryReal);
-    create_columns(history.get(), kHistoryInt);
-    probes = group(root, "probes");
-    body_probes = group(root, "body_probes");
-    frames = group(root, "frames");
-    // /frames@count is the number of complete frames (see write_frame): readers list frames by
-    // it, never by the group's links, which a killed run may leave pointing at a partial frame.
-    attribute(frames.get(), "count", static_cast<std::int64_t>(0));
-    ok(H5Fflush(root, H5F_SCOPE_GLOBAL), "cannot flush");
+  // Writes the whole output to OUT.h5.tmp and renames it over OUT.h5 (see the top of the file).
+  // `consolidate`: frames copied in from their files rather than linked.
+  void commit(const FinalAttributes* final_attributes, bool consolidate) {
+    const std::string tmp = path + ".tmp";
+    {
+      Handle out = create_file(tmp);
+      Handle old;
+      if (committed) old = open_read(path);
+      const hid_t root = out.get();
+
+      Handle run = group(root, "run");
+      attribute(run.get(), "version", info.version);
+      attribute(run.get(), "backend", info.backend);
+      attribute(run.get(), "threads", info.threads);
+      attribute(run.get(), "case", info.case_text);
+      attribute(run.get(), "case_path", info.case_path);
+      if (final_attributes) {
+        attribute(run.get(), "steps", static_cast<std::int64_t>(final_attributes->steps));
+        attribute(run.get(), "wall_seconds", final_attributes->wall_seconds);
+        attribute(run.get(), "status", final_attributes->status);
+      }
+      run.reset();
+
+      // Series: the previous commit's, then the rows buffered since.
+      if (old.get() >= 0) {
+        for (const char* name : {"history", "probes", "body_probes"})
+          ok(H5Ocopy(old.get(), name, root, name, H5P_DEFAULT, H5P_DEFAULT),
+             std::string("cannot copy /") + name + " from the previous " + path);
+      } else {
+        Handle history = group(root, "history");
+        group(history.get(), "energy");
+        group(history.get(), "count");
+        create_columns(history.get(), kHistoryReal);
+        create_columns(history.get(), kHistoryInt);
+        group(root, "probes");
+        group(root, "body_probes");
+      }
+      {
+        Handle history(id(H5Gopen2(root, "history", H5P_DEFAULT), "cannot open /history"),
+                       H5Gclose);
+        append_columns(history.get(), kHistoryReal, history_rows);
+        append_columns(history.get(), kHistoryInt, history_rows);
+      }
+      append_probes(root, "probes", probe_rows, kProbeReal);
+      append_probes(root, "body_probes", body_probe_rows, kBodyProbeReal);
+
+      // Frames: /frames@count complete frames, /frames/K linked to (or copied from) its file.
+      Handle frames = group(root, "frames");
+      attribute(frames.get(), "count", static_cast<std::int64_t>(frame_info.size()));
+      for (std::size_t k = 0; k < frame_info.size(); ++k) {
+        const std::string name = std::to_string(k);
+        if (consolidate) {
+          Handle src = open_read(frame_file(k));
+          ok(H5Ocopy(src.get(), "frame", frames.get(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+             "cannot copy " + frame_file(k) + " into /frames/" + name);
+        } else {
+          const std::string target = frames_rel + "/" + name + ".h5";
+          ok(H5Lcreate_external(target.c_str(), "/frame", frames.get(), name.c_str(), H5P_DEFAULT,
+                                H5P_DEFAULT),
+             "cannot link /frames/" + name + " to " + target);
+        }
+      }
+    }  // every handle closed: the file is complete
+    rename_over(tmp, path, path);
+    committed = true;
+    history_rows.clear();
+    for (auto& [name, rows] : probe_rows) rows.clear();
+    for (auto& [name, rows] : body_probe_rows) rows.clear();
+    if (consolidate) {
+      std::error_code ignored;
+      fs::remove_all(frames_dir, ignored);
+    }
   }
 
   static void check_name(const std::string& path, const std::string& name) {
@@ -424,15 +516,11 @@ struct OutputFile::Impl {
       throw std::runtime_error("output " + path + ": invalid probe name '" + name + "'");
   }
 
-  template <class R, std::size_t N>
-  void declare(hid_t parent, std::map<std::string, std::vector<R>>& rows, const std::string& name,
-               const Column<R, double> (&columns)[N]) {
+  template <class R>
+  void declare(std::map<std::string, std::vector<R>>& rows, const std::string& name) {
     require_open("declare probe");
     check_name(path, name);
-    if (rows.count(name)) return;
-    Handle g = group(parent, name);
-    create_columns(g.get(), columns);
-    rows[name];
+    rows[name];  // its group is created by the next commit
   }
 
   template <class R>
@@ -444,28 +532,28 @@ struct OutputFile::Impl {
     it->second.push_back(r);
   }
 
+  // /GROUP/NAME series of every declared probe: created if new, then the buffered rows.
   template <class R, std::size_t N>
-  void flush_probes(hid_t parent, std::map<std::string, std::vector<R>>& all,
-                    const Column<R, double> (&columns)[N]) {
-    for (auto& [name, rows] : all) {
-      if (rows.empty()) continue;
-      std::vector<R> pending;
-      pending.swap(rows);
-      const std::string what = "cannot open group " + where(parent, name);
-      Handle g(id(H5Gopen2(parent, name.c_str(), H5P_DEFAULT), what), H5Gclose);
-      append_columns(g.get(), columns, pending);
+  void append_probes(hid_t root, const char* group_name,
+                     const std::map<std::string, std::vector<R>>& all,
+                     const Column<R, double> (&columns)[N]) {
+    Handle parent(
+        id(H5Gopen2(root, group_name, H5P_DEFAULT), std::string("cannot open /") + group_name),
+        H5Gclose);
+    for (const auto& [name, rows] : all) {
+      const std::string what = "cannot open group " + where(parent.get(), name);
+      if (H5Lexists(parent.get(), name.c_str(), H5P_DEFAULT) <= 0) {
+        Handle g = group(parent.get(), name);
+        create_columns(g.get(), columns);
+      }
+      Handle g(id(H5Gopen2(parent.get(), name.c_str(), H5P_DEFAULT), what), H5Gclose);
+      append_columns(g.get(), columns, rows);
     }
   }
 
   void flush() {
     require_open("flush");
-    std::vector<HistoryRecord> pending;
-    pending.swap(history_rows);
-    append_columns(history.get(), kHistoryReal, pending);
-    append_columns(history.get(), kHistoryInt, pending);
-    flush_probes(probes.get(), probe_rows, kProbeReal);
-    flush_probes(body_probes.get(), body_probe_rows, kBodyProbeReal);
-    ok(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "cannot flush");
+    commit(nullptr, false);
   }
 
   void check_size(const char* what, std::size_t got, std::size_t want) const {
@@ -521,8 +609,15 @@ struct OutputFile::Impl {
       info.fields.push_back(&field);
     }
 
-    const std::string name = std::to_string(frame_info.size());
-    Handle g = group(frames.get(), name);
+    // The frame's own file, written whole and renamed into place.
+    const std::string final_name = frame_file(frame_info.size()), tmp = final_name + ".tmp";
+    std::error_code dir_error;
+    fs::create_directories(frames_dir, dir_error);
+    if (dir_error)
+      throw std::runtime_error("output " + path + ": cannot create directory " + frames_dir + ": " +
+                               dir_error.message());
+    Handle frame_file_handle = create_file(tmp);
+    Handle g = group(frame_file_handle.get(), "frame");
     attribute(g.get(), "time", f.time);
     attribute(g.get(), "step", static_cast<std::int64_t>(f.step));
     write_scalar(g.get(), "time", f.time);
@@ -547,15 +642,10 @@ struct OutputFile::Impl {
     write_array(g.get(), "fragment_mass", f.fragment_mass, 1);
     write_array(g.get(), "fragment_size", f.fragment_size, 1);
     g.reset();
+    frame_file_handle.reset();
+    rename_over(tmp, final_name, path);
     frame_info.push_back(std::move(info));
-    // Two flushes make a frame's listing atomic against SIGKILL. HDF5 may write dirty metadata
-    // whenever its cache evicts and a flush is many writes, so a kill can leave the link
-    // /frames/K on disk without its datasets (seen in CI). The first flush puts the frame's
-    // data and metadata on disk; only then is /frames@count, created once at open, rewritten
-    // in place (one fixed-size message in one object header, a single small write) and flushed.
-    flush();
-    update_count(frames.get(), static_cast<std::int64_t>(frame_info.size()));
-    ok(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "cannot flush");
+    commit(nullptr, false);  // OUT.h5 now lists it
     write_xdmf();
   }
 
@@ -687,25 +777,11 @@ struct OutputFile::Impl {
       throw std::runtime_error("output " + path + ": cannot rename " + tmp + " to " + xdmf_path);
   }
 
-  void close() {
-    frames.reset();
-    body_probes.reset();
-    probes.reset();
-    history.reset();
-    file.reset();
-  }
-
   void finish(long steps, double wall_seconds, const std::string& status) {
     if (finished) return;
-    flush();
-    Handle run(id(H5Gopen2(file.get(), "run", H5P_DEFAULT), "cannot open group /run"), H5Gclose);
-    attribute(run.get(), "steps", static_cast<std::int64_t>(steps));
-    attribute(run.get(), "wall_seconds", wall_seconds);
-    attribute(run.get(), "status", status);
-    run.reset();
-    ok(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "cannot flush");
+    const FinalAttributes final_attributes{steps, wall_seconds, status};
+    commit(&final_attributes, true);
     finished = true;
-    close();
   }
 };
 
@@ -721,17 +797,16 @@ OutputFile::~OutputFile() {
   try {
     impl_->flush();
   } catch (...) {
-    // Destructors must not throw; the rows buffered since the last flush are lost.
+    // Destructors must not throw; the rows buffered since the last commit are lost.
   }
-  impl_->close();
 }
 
 void OutputFile::declare_probe(const std::string& name) {
-  impl_->declare(impl_->probes.get(), impl_->probe_rows, name, kProbeReal);
+  impl_->declare(impl_->probe_rows, name);
 }
 
 void OutputFile::declare_body_probe(const std::string& name) {
-  impl_->declare(impl_->body_probes.get(), impl_->body_probe_rows, name, kBodyProbeReal);
+  impl_->declare(impl_->body_probe_rows, name);
 }
 
 void OutputFile::append_history(const HistoryRecord& r) {

@@ -1,7 +1,9 @@
 // HDF5 output (DESIGN.md 3.3) and its XDMF side file for ParaView.
 // Host-only: the solver copies device state into these plain structs at output time.
-// History rows are buffered in memory and written on flush(); every write_frame() flushes,
-// so a killed run leaves a file holding every frame written before the kill.
+// History rows are buffered in memory and committed by flush(); every write_frame() commits.
+// A commit writes the whole OUT.h5 to OUT.h5.tmp and renames it into place (frames live in
+// OUT.h5.frames/K.h5 until finish() copies them in; output.cpp explains why), so at every
+// instant OUT.h5 is a complete file: a killed run leaves every frame committed before the kill.
 #pragma once
 #include <array>
 #include <map>
@@ -98,12 +100,14 @@ class OutputFile {
   void append_probe(const std::string& name, const ProbeRecord& r);
   void append_body_probe(const std::string& name, const BodyProbeRecord& r);
 
-  // Writes /frames/K (K = 0, 1, ...), flushes buffered history, updates the .xdmf beside the file.
+  // Writes frame K (K = 0, 1, ...) to its file, commits (OUT.h5 lists /frames/K and the buffered
+  // history), updates the .xdmf beside the file.
   void write_frame(const FrameData& f);
-  // Writes buffered history/probe rows to the file and calls H5Fflush.
+  // Commits the buffered history/probe rows (OUT.h5 rewritten whole and renamed into place).
   void flush();
   // Final /run attributes (steps, wall_seconds, status: "completed", "failed: ...", ...),
-  // flush, close. Safe to call once; the destructor closes without these attributes otherwise.
+  // the last commit, with every frame copied into OUT.h5 (one self-contained file; the frame
+  // files are removed). Safe to call once; the destructor commits without these otherwise.
   void finish(long steps, double wall_seconds, const std::string& status);
 
   const std::string& path() const;
