@@ -112,7 +112,7 @@ Simulation::Simulation(const Case& c) : model_(build_model(c)) {
   // Initial forces (dt = 0: no strain increment) give f(0) and the first stable step.
   // The bond network's bound: bonds only weaken or break, so it stays valid until a conversion
   // adds stiffness; it allows 6 contacts per disc.
-  bond_dt_bound_ = bond_stable_dt(model_.nodes, model_.bonds, 6);
+  bond_dt_bound_ = bond_stable_dt(model_.nodes, model_.bonds, 6, stable_dt_);
   apply_loads(model_.nodes, model_.tables, model_.pressure_edges, model_.nodal_forces,
               c.sim.thickness, 0.0);
   dt_bound_ = evaluate_forces(0.0);
@@ -208,11 +208,28 @@ void Simulation::convert() {
   conversions_this_step_ = n;
   if (n == 0) return;
   const LatticeTotals before = lattice_totals(m.nodes, m.bonds, 0.0);
+  // The slots and nodes this conversion activates go into the lists (state.hpp): collected
+  // before the activation, inserted after it; a large batch rebuilds the lists instead.
+  const bool lists = m.bonds.used.extent(0) > 0 && m.nodes.particle_list.extent(0) > 0;
+  const bool insert = lists && 6 * n <= ListWorkspace::kCapacity;
+  if (insert) {
+    collect_new_bonds(m.new_cells, n, m.element_bonds, m.bonds, m.lists.bond_candidates);
+    collect_new_particles(m.new_cells, n, m.elements, m.nodes, m.lists.particle_candidates);
+  }
   const double element_energy = prestress_converted_bonds(
       m.new_cells, n, m.element_bonds, m.lattice_stiffness, m.elements, m.nodes, m.bonds);
   activate_element_bonds(m.new_cells, n, m.element_bonds, m.lattice_stiffness, m.elements, m.nodes,
                          m.bonds);
   finish_converted_bonds(m.new_cells, n, m.element_bonds, m.nodes, m.bonds);
+  if (insert) {
+    m.bonds.used_count =
+        insert_sorted(m.bonds.used, m.bonds.used_count, m.lists.bond_candidates, 6 * n, m.lists);
+    m.nodes.particle_count = insert_sorted(m.nodes.particle_list, m.nodes.particle_count,
+                                           m.lists.particle_candidates, 4 * n, m.lists);
+  } else if (lists) {
+    m.bonds.used_count = build_used_bonds(m.bonds);
+    m.nodes.particle_count = build_particle_list(m.nodes);
+  }
   Kokkos::deep_copy(
       Kokkos::subview(m.converted, std::make_pair(m.converted_count, m.converted_count + n)),
       Kokkos::subview(m.new_cells, std::make_pair(0, n)));
@@ -224,7 +241,7 @@ void Simulation::convert() {
   const LatticeTotals after = lattice_totals(m.nodes, m.bonds, 0.0);
   conversion_energy_ += element_energy - (after.bond_elastic - before.bond_elastic) -
                         (after.rotational_kinetic - before.rotational_kinetic);
-  bond_dt_bound_ = bond_stable_dt(m.nodes, m.bonds, 6);
+  bond_dt_bound_ = bond_stable_dt(m.nodes, m.bonds, 6, stable_dt_);
   dt_bound_ = std::min(dt_bound_, bond_dt_bound_);
   dt_ = next_dt();
 }
@@ -470,6 +487,8 @@ void Simulation::save_snapshot() {
   snapshot_.broken_bonds = broken_bonds_;
   snapshot_.touching = touching_;
   snapshot_.active_elements = model_.elements.active_count;
+  snapshot_.used_bonds = model_.bonds.used_count;
+  snapshot_.particles = model_.nodes.particle_count;
   snapshot_.steps = steps_;
 }
 
@@ -493,6 +512,8 @@ void Simulation::restore_snapshot() {
   broken_bonds_ = snapshot_.broken_bonds;
   touching_ = snapshot_.touching;
   model_.elements.active_count = snapshot_.active_elements;
+  model_.bonds.used_count = snapshot_.used_bonds;
+  model_.nodes.particle_count = snapshot_.particles;
   steps_ = snapshot_.steps;
 }
 

@@ -62,6 +62,7 @@ class Simulation {
   View<double* [7]> probe_values_;
   FragmentWorkspace fragments_;
   View<double*[3]> contact_force_, contact_force_prev_;
+  StableDtWorkspace stable_dt_;  // bond_stable_dt without allocations
   // Raised by the FE kernel when an adaptive element meets its conversion criterion.
   View<int> conversion_pending_{"fracta::conversion_pending"};  // contact's own (fx, fy, moment)
 
@@ -74,6 +75,7 @@ class Simulation {
     std::vector<RigidBody> rigid;
     long broken_bonds = 0, steps = -1, touching = 0;
     int active_elements = 0;
+    int used_bonds = 0, particles = 0;  // list counts (Bonds::used, Nodes::particle_list)
   } snapshot_;
 };
 

@@ -87,10 +87,13 @@ inline void activate_element_bonds(const View<int*>& converted, int count,
   // Effective areas S = kn L0 / E_eff: the bond stress fn / S then equals E_eff times the bond
   // strain, so an orthogonal bond reaches sigma_t exactly when a block in uniaxial tension
   // along it carries sigma_t (DESIGN.md 1.2 asks for that calibration).
+  // Only the slots of these cells changed stiffness: the others keep their areas. (A slot of
+  // two of these cells is written twice with the same value.)
   Kokkos::parallel_for(
-      "fracta::bond_areas", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
-      KOKKOS_LAMBDA(const int b) {
-        if (bonds.state(b) != kBondActive) return;
+      "fracta::bond_areas", Kokkos::RangePolicy<ExecSpace>(0, 6 * count),
+      KOKKOS_LAMBDA(const int k) {
+        const int b = element_bonds(converted(k / 6), k % 6);
+        if (b < 0 || bonds.state(b) != kBondActive) return;
         bonds.area(b) =
             bonds.kn(b) * bonds.length0(b) / stiffness(bonds.material(b)).youngs_modulus_eff;
       });
@@ -302,6 +305,150 @@ inline void finish_converted_bonds(const View<int*>& cells, int count,
           Kokkos::atomic_fetch_min(&nodes.radius(j), r);
         }
       });
+}
+
+}  // namespace fracta
+
+namespace fracta {
+
+// Lists of the used bond slots (Bonds::used) and of the particles (Nodes::particle_list), both
+// increasing. They are functions of bonds.state and nodes.particle, built once by a scan and
+// then kept up to date by the conversion, which only adds entries: it collects the slots and
+// nodes it is about to activate (collect_new_*), and after activation inserts them
+// (insert_sorted). Deterministic: no atomic decides an order.
+
+// Rebuilds bonds.used from bonds.state; returns the count.
+inline int build_used_bonds(const Bonds& bonds) {
+  int count = 0;
+  if (bonds.count == 0) return count;
+  const auto state = bonds.state;
+  const auto used = bonds.used;
+  Kokkos::parallel_scan(
+      "fracta::used_bonds_scan", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
+      KOKKOS_LAMBDA(const int b, int& partial, const bool final) {
+        if (state(b) == kBondInactive) return;
+        if (final) used(partial) = b;
+        ++partial;
+      },
+      count);
+  return count;
+}
+
+// Rebuilds nodes.particle_list from nodes.particle; returns the count.
+inline int build_particle_list(const Nodes& nodes) {
+  int count = 0;
+  if (!nodes.has_particles()) return count;
+  const auto particle = nodes.particle;
+  const auto list = nodes.particle_list;
+  Kokkos::parallel_scan(
+      "fracta::particle_list_scan", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
+      KOKKOS_LAMBDA(const int n, int& partial, const bool final) {
+        if (!particle(n)) return;
+        if (final) list(partial) = n;
+        ++partial;
+      },
+      count);
+  return count;
+}
+
+// Work space of insert_sorted: candidates of at most kCapacity entries (larger batches rebuild
+// the lists with the scans above), and a merge buffer as long as the longest list.
+struct ListWorkspace {
+  static constexpr int kCapacity = 1024;
+  View<int*> bond_candidates, particle_candidates, keep, sorted, merged;
+  ListWorkspace() = default;
+  explicit ListWorkspace(int longest)
+      : bond_candidates("fracta::list_bond_candidates", kCapacity),
+        particle_candidates("fracta::list_particle_candidates", kCapacity),
+        keep("fracta::list_keep", kCapacity),
+        sorted("fracta::list_sorted", kCapacity),
+        merged(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::list_merged"), longest) {}
+};
+
+// Slots of the cells that the activation will turn from inactive to active (-1: none).
+inline void collect_new_bonds(const View<int*>& cells, int count,
+                              const View<int* [6]>& element_bonds, const Bonds& bonds,
+                              const View<int*>& candidates) {
+  const auto state = bonds.state;
+  Kokkos::parallel_for(
+      "fracta::collect_new_bonds", Kokkos::RangePolicy<ExecSpace>(0, 6 * count),
+      KOKKOS_LAMBDA(const int k) {
+        const int b = element_bonds(cells(k / 6), k % 6);
+        candidates(k) = b >= 0 && state(b) == kBondInactive ? b : -1;
+      });
+}
+
+// Corner nodes of the cells that the activation will make particles (-1: already one).
+inline void collect_new_particles(const View<int*>& cells, int count, const Elements& elements,
+                                  const Nodes& nodes, const View<int*>& candidates) {
+  const auto particle = nodes.particle;
+  const auto corners = elements.nodes;
+  Kokkos::parallel_for(
+      "fracta::collect_new_particles", Kokkos::RangePolicy<ExecSpace>(0, 4 * count),
+      KOKKOS_LAMBDA(const int k) {
+        const int n = corners(cells(k / 4), k % 4);
+        candidates(k) = particle(n) ? -1 : n;
+      });
+}
+
+// Number of entries of the increasing list [0, count) that are < value.
+KOKKOS_INLINE_FUNCTION int count_below(const View<int*>& list, int count, int value) {
+  int lo = 0, hi = count;
+  while (lo < hi) {
+    const int mid = (lo + hi) / 2;
+    if (list(mid) < value)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo;
+}
+
+// Inserts candidates[0, k) (any order, duplicates and -1 entries allowed, none of them in the
+// list) into the increasing list [0, count); returns the new count. k <= kCapacity: the
+// candidates are deduplicated and ranked pairwise (O(k^2), small), then the two increasing
+// lists are merged (every entry finds its place by a binary search in the other).
+inline int insert_sorted(const View<int*>& list, int count, const View<int*>& candidates, int k,
+                         const ListWorkspace& ws) {
+  if (k == 0) return count;
+  const auto keep = ws.keep;
+  const auto sorted = ws.sorted;
+  const auto merged = ws.merged;
+  Kokkos::parallel_for(
+      "fracta::list_dedupe", Kokkos::RangePolicy<ExecSpace>(0, k), KOKKOS_LAMBDA(const int i) {
+        const int v = candidates(i);
+        int first = v >= 0 ? 1 : 0;
+        for (int j = 0; j < i && first; ++j)
+          if (candidates(j) == v) first = 0;
+        keep(i) = first;
+      });
+  int added = 0;
+  Kokkos::parallel_reduce(
+      "fracta::list_rank", Kokkos::RangePolicy<ExecSpace>(0, k),
+      KOKKOS_LAMBDA(const int i, int& n) {
+        if (!keep(i)) return;
+        const int v = candidates(i);
+        int rank = 0;
+        for (int j = 0; j < k; ++j) rank += keep(j) && candidates(j) < v ? 1 : 0;
+        sorted(rank) = v;
+        ++n;
+      },
+      added);
+  if (added == 0) return count;
+  const int total = count + added;
+  Kokkos::parallel_for(
+      "fracta::list_merge", Kokkos::RangePolicy<ExecSpace>(0, total), KOKKOS_LAMBDA(const int i) {
+        if (i < count) {
+          const int v = list(i);
+          merged(i + count_below(sorted, added, v)) = v;
+        } else {
+          const int v = sorted(i - count);
+          merged(i - count + count_below(list, count, v)) = v;
+        }
+      });
+  Kokkos::deep_copy(Kokkos::subview(list, std::make_pair(0, total)),
+                    Kokkos::subview(merged, std::make_pair(0, total)));
+  return total;
 }
 
 }  // namespace fracta
