@@ -337,6 +337,8 @@ struct CheckpointIO {
     if (used < 0 || used > static_cast<int>(s.model_.bonds.used.extent(0)) || particles < 0 ||
         particles > static_cast<int>(s.model_.nodes.particle_list.extent(0)))
       throw std::runtime_error("bond or particle list counts out of range");
+    // The constructor's force evaluation flagged elements of the initial active list.
+    Kokkos::deep_copy(s.conversion_pending_, 0);
     // The next step as the uninterrupted run computes it, for the restart's end_time (the
     // stored dt was shortened if the checkpoint's run ended at this time).
     s.dt_ = s.next_dt();

@@ -152,8 +152,8 @@ double Simulation::evaluate_forces(double dt) {
                                           m.elements.stress,
                                           m.elements.qp_per_element,
                                           m.scene.sim.conversion_on_tension};
-      bound =
-          compute_fe_forces(m.nodes, m.elements, m.materials, p, criterion, conversion_pending_);
+      bound = compute_fe_forces(m.nodes, m.elements, m.materials, p, criterion, conversion_pending_,
+                                conversion_candidates_);
     } else {
       bound = compute_fe_forces(m.nodes, m.elements, m.materials, p);
     }
@@ -203,8 +203,23 @@ void Simulation::convert() {
   conversions_this_step_ = 0;
   if (!pending) return;  // no element met its criterion in the force evaluations since last time
   Kokkos::deep_copy(conversion_pending_, 0);
-  const int n = compact_converted(m.elements, m.element_adaptive, m.materials,
-                                  m.scene.sim.conversion_on_tension, m.new_cells, m.active_scratch);
+  // Few flagged: check just those (compact_candidates); many: the sweep (compact_converted).
+  // Both give the same lists in the same order.
+  int n = 0;
+  const bool on_tension = m.scene.sim.conversion_on_tension;
+  if (pending > 0 && pending <= static_cast<int>(conversion_candidates_.extent(0)) &&
+      m.lists.keep.extent(0) >= static_cast<size_t>(pending)) {
+    n = compact_candidates(m.elements, m.element_adaptive, m.materials, on_tension,
+                           conversion_candidates_, pending, m.lists.keep, m.lists.sorted,
+                           m.new_cells, m.active_scratch);
+  } else {
+    if (conversion_flag_.extent(0) < static_cast<size_t>(m.elements.count)) {
+      conversion_flag_ = View<int*>("fracta::conversion_flag", m.elements.count);
+      conversion_position_ = View<int*>("fracta::conversion_position", m.elements.count);
+    }
+    n = compact_converted(m.elements, m.element_adaptive, m.materials, on_tension, m.new_cells,
+                          m.active_scratch, conversion_flag_, conversion_position_);
+  }
   conversions_this_step_ = n;
   if (n == 0) return;
   const LatticeTotals before = lattice_totals(m.nodes, m.bonds, 0.0);
@@ -514,6 +529,9 @@ void Simulation::restore_snapshot() {
   model_.elements.active_count = snapshot_.active_elements;
   model_.bonds.used_count = snapshot_.used_bonds;
   model_.nodes.particle_count = snapshot_.particles;
+  // Flags of the abandoned steps name positions in another active list: drop them (the next
+  // force evaluation flags the restored state).
+  Kokkos::deep_copy(conversion_pending_, 0);
   steps_ = snapshot_.steps;
 }
 

@@ -63,8 +63,11 @@ class Simulation {
   FragmentWorkspace fragments_;
   View<double*[3]> contact_force_, contact_force_prev_;
   StableDtWorkspace stable_dt_;  // bond_stable_dt without allocations
-  // Raised by the FE kernel when an adaptive element meets its conversion criterion.
-  View<int> conversion_pending_{"fracta::conversion_pending"};  // contact's own (fx, fy, moment)
+  // Counts the adaptive elements the FE kernel flagged for conversion since the last one;
+  // the candidates hold the first ones' active indices (compact_candidates).
+  View<int> conversion_pending_{"fracta::conversion_pending"};
+  View<int*> conversion_candidates_{"fracta::conversion_candidates", ListWorkspace::kCapacity};
+  View<int*> conversion_flag_, conversion_position_;  // compact_converted's work space
 
   struct Snapshot {
     StateViews views;

@@ -10,6 +10,19 @@
 
 namespace fracta {
 
+// Number of entries of the increasing list [0, count) that are < value.
+KOKKOS_INLINE_FUNCTION int count_below(const View<int*>& list, int count, int value) {
+  int lo = 0, hi = count;
+  while (lo < hi) {
+    const int mid = (lo + hi) / 2;
+    if (list(mid) < value)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo;
+}
+
 // Lattice spring stiffnesses of the formulation (DESIGN.md 1.2), N/m:
 // k1 = E t / (1 + nu), k2 = nu E t / (1 - nu^2), ks = E t (1 - 3 nu) / (1 - nu^2), with
 // (E, nu) -> (E / (1 - nu^2), nu / (1 - nu)) in plane strain (paper Eq. 4). They give
@@ -140,9 +153,12 @@ struct ConversionCriterion {
 // slot in the new active list or in the converted list, and a scatter writes both. Deterministic:
 // the order of both lists follows the old active list. Returns the number converted; the new
 // cells are in new_cells[0, n).
+// flag and position: work space of at least el.active_count entries (the overload below
+// allocates them).
 inline int compact_converted(Elements& el, const View<const int*>& adaptive,
                              const View<const MaterialLaw*>& materials, bool on_tension,
-                             const View<int*>& new_cells, View<int*>& active_scratch) {
+                             const View<int*>& new_cells, View<int*>& active_scratch,
+                             const View<int*>& flag, const View<int*>& position) {
   const int n_active = el.active_count;
   if (n_active == 0) return 0;
   const auto active = el.active;
@@ -159,12 +175,10 @@ inline int compact_converted(Elements& el, const View<const int*>& adaptive,
       "fracta::conversion_count", Kokkos::RangePolicy<ExecSpace>(0, n_active),
       KOKKOS_LAMBDA(const int i, int& count) { count += criterion(i); }, flagged);
   if (flagged == 0) return 0;
-  View<int*> flag("fracta::conversion_flag", n_active);
   Kokkos::parallel_for(
       "fracta::conversion_flag", Kokkos::RangePolicy<ExecSpace>(0, n_active),
       KOKKOS_LAMBDA(const int i) { flag(i) = criterion(i); });
   int converted = 0;
-  View<int*> position("fracta::conversion_position", n_active);
   Kokkos::parallel_scan(
       "fracta::conversion_scan", Kokkos::RangePolicy<ExecSpace>(0, n_active),
       KOKKOS_LAMBDA(const int i, int& partial, const bool final) {
@@ -190,6 +204,78 @@ inline int compact_converted(Elements& el, const View<const int*>& adaptive,
         }
       });
   // The compacted list becomes the active list; the old one is the next scratch.
+  std::swap(el.active, active_scratch);
+  el.active_count = n_active - converted;
+  return converted;
+}
+
+inline int compact_converted(Elements& el, const View<const int*>& adaptive,
+                             const View<const MaterialLaw*>& materials, bool on_tension,
+                             const View<int*>& new_cells, View<int*>& active_scratch) {
+  const View<int*> flag("fracta::conversion_flag", el.active_count);
+  const View<int*> position("fracta::conversion_position", el.active_count);
+  return compact_converted(el, adaptive, materials, on_tension, new_cells, active_scratch, flag,
+                           position);
+}
+
+// The same conversion from the candidates the FE kernel flagged (compute_fe_forces): active
+// indices candidates[0, k), any order, duplicates allowed, a superset of the elements that meet
+// the criterion. They are deduplicated, checked exactly and ranked pairwise (O(k^2): k is
+// small, the caller takes compact_converted for large k), which gives the converted positions
+// in increasing order; then one pass moves every remaining element to its new position (its
+// index less the number of converted positions below it, a binary search). The result is
+// compact_converted's: the same lists in the same order. keep and sorted hold >= k entries.
+inline int compact_candidates(Elements& el, const View<const int*>& adaptive,
+                              const View<const MaterialLaw*>& materials, bool on_tension,
+                              const View<int*>& candidates, int k, const View<int*>& keep,
+                              const View<int*>& sorted, const View<int*>& new_cells,
+                              View<int*>& active_scratch) {
+  const int n_active = el.active_count;
+  if (n_active == 0 || k == 0) return 0;
+  const ConversionCriterion criterion{el.active, adaptive,  materials,         el.material,
+                                      el.epeq,   el.stress, el.qp_per_element, on_tension};
+  Kokkos::parallel_for(
+      "fracta::conversion_candidates", Kokkos::RangePolicy<ExecSpace>(0, k),
+      KOKKOS_LAMBDA(const int c) {
+        const int i = candidates(c);
+        int first = i >= 0 && i < n_active ? 1 : 0;
+        for (int j = 0; j < c && first; ++j)
+          if (candidates(j) == i) first = 0;
+        keep(c) = first && criterion(i) ? 1 : 0;
+      });
+  int converted = 0;
+  Kokkos::parallel_reduce(
+      "fracta::conversion_rank", Kokkos::RangePolicy<ExecSpace>(0, k),
+      KOKKOS_LAMBDA(const int c, int& n) {
+        if (!keep(c)) return;
+        const int i = candidates(c);
+        int rank = 0;
+        for (int j = 0; j < k; ++j) rank += keep(j) && candidates(j) < i ? 1 : 0;
+        sorted(rank) = i;
+        ++n;
+      },
+      converted);
+  if (converted == 0) return 0;
+  const auto active = el.active;
+  const auto alive = el.alive;
+  const auto corner_force = el.corner_force;
+  Kokkos::parallel_for(
+      "fracta::conversion_new_cells", Kokkos::RangePolicy<ExecSpace>(0, converted),
+      KOKKOS_LAMBDA(const int j) {
+        const int e = active(sorted(j));
+        new_cells(j) = e;
+        alive(e) = 0;
+        // Its corners leave the node gather (GatherCornerForces) for good.
+        for (int a = 0; a < 4; ++a) corner_force(e, a, 0) = corner_force(e, a, 1) = 0.0;
+      });
+  const auto out_active = active_scratch;
+  Kokkos::parallel_for(
+      "fracta::conversion_shift", Kokkos::RangePolicy<ExecSpace>(0, n_active),
+      KOKKOS_LAMBDA(const int i) {
+        const int below = count_below(sorted, converted, i);
+        if (below < converted && sorted(below) == i) return;  // converted
+        out_active(i - below) = active(i);
+      });
   std::swap(el.active, active_scratch);
   el.active_count = n_active - converted;
   return converted;
@@ -389,19 +475,6 @@ inline void collect_new_particles(const View<int*>& cells, int count, const Elem
         const int n = corners(cells(k / 4), k % 4);
         candidates(k) = particle(n) ? -1 : n;
       });
-}
-
-// Number of entries of the increasing list [0, count) that are < value.
-KOKKOS_INLINE_FUNCTION int count_below(const View<int*>& list, int count, int value) {
-  int lo = 0, hi = count;
-  while (lo < hi) {
-    const int mid = (lo + hi) / 2;
-    if (list(mid) < value)
-      lo = mid + 1;
-    else
-      hi = mid;
-  }
-  return lo;
 }
 
 // Inserts candidates[0, k) (any order, duplicates and -1 entries allowed, none of them in the
