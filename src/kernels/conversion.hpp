@@ -222,8 +222,9 @@ inline int compact_converted(Elements& el, const View<const int*>& adaptive,
 // indices candidates[0, k), any order, duplicates allowed, a superset of the elements that meet
 // the criterion. They are deduplicated, checked exactly and ranked pairwise (O(k^2): k is
 // small, the caller takes compact_converted for large k), which gives the converted positions
-// in increasing order; then one pass moves every remaining element to its new position (its
-// index less the number of converted positions below it, a binary search). The result is
+// in increasing order; then one pass over the tail from the first converted position moves
+// every remaining element to its new position (its index less the number of converted
+// positions below it, a binary search), in place through active_scratch. The result is
 // compact_converted's: the same lists in the same order. keep and sorted hold >= k entries.
 inline int compact_candidates(Elements& el, const View<const int*>& adaptive,
                               const View<const MaterialLaw*>& materials, bool on_tension,
@@ -268,15 +269,20 @@ inline int compact_candidates(Elements& el, const View<const int*>& adaptive,
         // Its corners leave the node gather (GatherCornerForces) for good.
         for (int a = 0; a < 4; ++a) corner_force(e, a, 0) = corner_force(e, a, 1) = 0.0;
       });
-  const auto out_active = active_scratch;
+  // Only the tail from the first converted position moves: copy it aside, then write each
+  // remaining element at its index less the number converted below it (a binary search).
+  int first = 0;
+  Kokkos::deep_copy(first, Kokkos::subview(sorted, 0));
+  const auto tail = std::make_pair(first, n_active);
+  const auto scratch = active_scratch;
+  Kokkos::deep_copy(Kokkos::subview(scratch, tail), Kokkos::subview(active, tail));
   Kokkos::parallel_for(
-      "fracta::conversion_shift", Kokkos::RangePolicy<ExecSpace>(0, n_active),
+      "fracta::conversion_shift", Kokkos::RangePolicy<ExecSpace>(first, n_active),
       KOKKOS_LAMBDA(const int i) {
         const int below = count_below(sorted, converted, i);
         if (below < converted && sorted(below) == i) return;  // converted
-        out_active(i - below) = active(i);
+        active(i - below) = scratch(i);
       });
-  std::swap(el.active, active_scratch);
   el.active_count = n_active - converted;
   return converted;
 }
