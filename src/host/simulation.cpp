@@ -48,35 +48,33 @@ struct ProbeGather {
   }
 };
 
-// out += sign * (f, moment) of every contact disc (the contact acts on nothing else; the other
-// nodes' entries stay 0): called with -1 before and +1 after a force evaluation, it leaves that
-// evaluation's own contribution in `out`.
-void store_forces(const Nodes& nodes, const View<const int*>& discs, const View<double* [3]>& out,
-                  double sign) {
+// out = -(f, moment) of every contact disc before the contact's force evaluation (the contact
+// acts on nothing else; the other nodes' entries stay 0).
+void store_forces_before(const Nodes& nodes, const View<const int*>& discs,
+                         const View<double* [3]>& out) {
   const auto f = nodes.f;
   const auto moment = nodes.moment;
   Kokkos::parallel_for(
       "fracta::store_forces", Kokkos::RangePolicy<ExecSpace>(0, discs.extent(0)),
       KOKKOS_LAMBDA(const int a) {
         const int n = discs(a);
-        if (sign < 0.0) {
-          out(n, 0) = -f(n, 0);
-          out(n, 1) = -f(n, 1);
-          out(n, 2) = -moment(n);
-        } else {
-          out(n, 0) += f(n, 0);
-          out(n, 1) += f(n, 1);
-          out(n, 2) += moment(n);
-        }
+        out(n, 0) = -f(n, 0);
+        out(n, 1) = -f(n, 1);
+        out(n, 2) = -moment(n);
       });
 }
 
-// Trapezoidal work (J) of forces applied at both ends of a step on the mid-step velocities:
-// dt/2 sum v(n+1/2) . (f(n) + f(n+1)) (+ spin x moment for discs), over the contact discs
-// (increasing: the other nodes' terms are zeros, so the sum is the one over every node).
-double contact_work(const Nodes& nodes, const View<const int*>& discs,
-                    const View<double* [3]>& before, const View<double* [3]>& after, double dt) {
+// After the evaluation: after += (f, moment), which leaves the contact's own forces in it, and
+// their trapezoidal work (J) over the step on the mid-step velocities, with `before` the last
+// evaluation's: dt/2 sum v(n+1/2) . (f(n) + f(n+1)) (+ spin x moment for discs), over the
+// contact discs (increasing: the other nodes' terms are zeros, so the sum is the one over every
+// node).
+double store_forces_after_and_work(const Nodes& nodes, const View<const int*>& discs,
+                                   const View<double* [3]>& before, const View<double* [3]>& after,
+                                   double dt) {
   double work = 0.0;
+  const auto f = nodes.f;
+  const auto moment = nodes.moment;
   const auto v = nodes.v;
   const auto spin = nodes.spin;
   const auto particle = nodes.particle;
@@ -84,9 +82,13 @@ double contact_work(const Nodes& nodes, const View<const int*>& discs,
       "fracta::contact_work", Kokkos::RangePolicy<ExecSpace>(0, discs.extent(0)),
       KOKKOS_LAMBDA(const int a, double& w) {
         const int n = discs(a);
-        w += 0.5 * dt *
-             (v(n, 0) * (before(n, 0) + after(n, 0)) + v(n, 1) * (before(n, 1) + after(n, 1)));
-        if (particle(n)) w += 0.5 * dt * spin(n) * (before(n, 2) + after(n, 2));
+        const double fx = after(n, 0) + f(n, 0), fy = after(n, 1) + f(n, 1);
+        const double m = after(n, 2) + moment(n);
+        after(n, 0) = fx;
+        after(n, 1) = fy;
+        after(n, 2) = m;
+        w += 0.5 * dt * (v(n, 0) * (before(n, 0) + fx) + v(n, 1) * (before(n, 1) + fy));
+        if (particle(n)) w += 0.5 * dt * spin(n) * (before(n, 2) + m);
       },
       work);
   return work;
@@ -185,13 +187,13 @@ double Simulation::evaluate_forces(double dt) {
     }
     // The contact's own forces are the change it makes to the accumulators (fx, fy, moment).
     const auto discs = m.contacts->discs();
-    store_forces(m.nodes, discs, contact_force_, -1.0);
+    store_forces_before(m.nodes, discs, contact_force_);
     const ContactStepResult r = m.contacts->compute_forces(m.nodes, m.topology, dt);
-    store_forces(m.nodes, discs, contact_force_, 1.0);
     // Work of the contact forces over the step by the trapezoidal rule with v(n+1/2), the rule
     // under which central differences balance energy (as the external work): what the contact
     // did not store as elastic energy it dissipated (damping, friction, clamping).
-    const double work = contact_work(m.nodes, discs, contact_force_prev_, contact_force_, dt);
+    const double work =
+        store_forces_after_and_work(m.nodes, discs, contact_force_prev_, contact_force_, dt);
     if (dt > 0.0) contact_dissipated_ += -work - (r.elastic_energy - contact_elastic_);
     contact_elastic_ = r.elastic_energy;
     touching_ = r.touching;
