@@ -21,11 +21,22 @@ double conversion_kernels(Elements& elements, const Nodes& nodes, const Bonds& b
   View<LatticeStiffness*> stiffness("fracta::cuda_check_stiffness", 1);
   const View<const LatticeStiffness*> stiffness_c = stiffness;
   const int n = compact_converted(elements, adaptive, materials, true, new_cells, active_scratch);
+  // The conversion from candidates, and the lists it keeps.
+  ListWorkspace ws(bonds.count > nodes.count ? bonds.count : nodes.count);
+  const int m = compact_candidates(elements, adaptive, materials, true, ws.bond_candidates, 8,
+                                   ws.keep, ws.sorted, new_cells, active_scratch);
+  collect_new_bonds(new_cells, n, element_bonds, bonds, ws.bond_candidates);
+  collect_new_particles(new_cells, n, elements, nodes, ws.particle_candidates);
   const double energy =
       prestress_converted_bonds(new_cells, n, element_bonds, stiffness_c, elements, nodes, bonds);
   activate_element_bonds(new_cells, n, element_bonds, stiffness_c, elements, nodes, bonds);
   finish_converted_bonds(new_cells, n, element_bonds, nodes, bonds);
-  return energy;
+  const int used = insert_sorted(bonds.used, bonds.used_count, ws.bond_candidates, 6 * n, ws) +
+                   build_used_bonds(bonds);
+  const int particles =
+      insert_sorted(nodes.particle_list, nodes.particle_count, ws.particle_candidates, 4 * n, ws) +
+      build_particle_list(nodes);
+  return energy + m + used + particles;
 }
 
 }  // namespace fracta::cuda_check

@@ -16,7 +16,12 @@ double fe_forces_kernels(const Nodes& nodes, const Elements& elements,
         out(i) = q4_gradients(x, y, 0.1, -0.2, bx, by) + qp_gradients<1>(x, y, 0, bx, by) +
                  qp_gradients<4>(x, y, 3, bx, by) + s[0];
       });
-  return compute_fe_forces(nodes, elements, materials, p);
+  // With the conversion flags and candidates (adaptive scenes).
+  const ConversionCriterion criterion{};
+  const View<int> pending("fracta::cuda_check_pending");
+  const View<int*> candidates("fracta::cuda_check_candidates", 16);
+  return compute_fe_forces(nodes, elements, materials, p) +
+         compute_fe_forces(nodes, elements, materials, p, criterion, pending, candidates);
 }
 
 }  // namespace fracta::cuda_check

@@ -26,7 +26,8 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kFormat = "fracta checkpoint";
-constexpr std::int64_t kFormatVersion = 2;  // 2: bond damage and onset separation
+// 2: bond damage and onset separation; 3: the lists of used bond slots and of particles
+constexpr std::int64_t kFormatVersion = 3;
 
 // Owns one HDF5 identifier.
 class H5Handle {
@@ -249,6 +250,8 @@ struct CheckpointIO {
     f("conversions_this_step", s.conversions_this_step_);
     f("converted_count", s.model_.converted_count);
     f("active_elements", s.model_.elements.active_count);
+    f("used_bonds", s.model_.bonds.used_count);
+    f("particles", s.model_.nodes.particle_count);
   }
 
   static void write(Simulation& s, hid_t file) {
@@ -330,6 +333,12 @@ struct CheckpointIO {
     if (active < 0 || active > s.model_.elements.count || converted < 0 ||
         converted > static_cast<int>(s.model_.converted.extent(0)))
       throw std::runtime_error("element counts out of range");
+    const int used = s.model_.bonds.used_count, particles = s.model_.nodes.particle_count;
+    if (used < 0 || used > static_cast<int>(s.model_.bonds.used.extent(0)) || particles < 0 ||
+        particles > static_cast<int>(s.model_.nodes.particle_list.extent(0)))
+      throw std::runtime_error("bond or particle list counts out of range");
+    // The constructor's force evaluation flagged elements of the initial active list.
+    Kokkos::deep_copy(s.conversion_pending_, 0);
     // The next step as the uninterrupted run computes it, for the restart's end_time (the
     // stored dt was shortened if the checkpoint's run ended at this time).
     s.dt_ = s.next_dt();

@@ -74,6 +74,7 @@ void ContactSystem::rebuild(const Nodes& nodes) {
   record_positions(nodes, discs_, x_build_);
   pair_count_ = total;
   built_ = true;
+  joins_built_ = false;
   ++rebuilds_;
   Kokkos::Profiling::popRegion();
 }
@@ -82,7 +83,18 @@ ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, const Topolo
                                                 double dt) {
   if (!built_) throw std::logic_error("ContactSystem::compute_forces before update");
   Kokkos::Profiling::pushRegion("fracta::contact_forces");
-  const ContactSums s = contact_forces(nodes, topo, pair_i_, pair_j_, pair_count_, law_, dt);
+  // What joins each pair, once per list: the force kernel then reads only states.
+  if (!joins_built_ || joins_topology_ != topo.node_bond.data()) {
+    if (static_cast<long>(pair_joins_.extent(0)) < pair_count_)
+      pair_joins_ = View<int* [3]>(
+          Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_pair_joins"),
+          pair_i_.extent(0));
+    pair_topology(topo, pair_i_, pair_j_, pair_count_, pair_joins_);
+    joins_built_ = true;
+    joins_topology_ = topo.node_bond.data();
+  }
+  const ContactSums s =
+      contact_forces(nodes, topo, pair_i_, pair_j_, pair_count_, law_, dt, pair_joins_);
   Kokkos::Profiling::popRegion();
   ContactStepResult r;
   r.elastic_energy = s.v[0];
@@ -136,6 +148,7 @@ void ContactSystem::restore_list_state(const ListState& s) {
   Kokkos::deep_copy(x_build_, xb);
   pair_count_ = count;
   built_ = s.built;
+  joins_built_ = false;
   rebuilds_ = s.rebuilds;
 }
 

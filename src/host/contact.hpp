@@ -54,6 +54,8 @@ class ContactSystem {
   // Device views of the candidates [0, candidate_count()).
   View<const int*> pair_i() const { return pair_i_; }
   View<const int*> pair_j() const { return pair_j_; }
+  // The contact discs' node ids, increasing: contact forces act on these nodes only.
+  View<const int*> discs() const { return discs_; }
   const ContactLaw& law() const { return law_; }
 
   // The candidate list and its reference positions, for checkpoints: a restart that rebuilt
@@ -77,6 +79,9 @@ class ContactSystem {
   View<int*> cell_start_, cell_cursor_, cell_discs_;
   View<int*> row_offset_;
   View<int*> pair_i_, pair_j_;  // capacity >= pair_count_
+  View<int* [3]> pair_joins_;   // pair_topology of the list, when joins_built_
+  bool joins_built_ = false;
+  const void* joins_topology_ = nullptr;  // the Topology (its node -> bond list) they came from
   long pair_count_ = 0;
   long rebuilds_ = 0;
   bool built_ = false;

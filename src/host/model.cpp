@@ -393,6 +393,13 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   const View<int*> conv = to_device_1d<int>("converted_elements", converted);
   activate_element_bonds(conv, static_cast<int>(converted.size()), model.element_bonds,
                          model.lattice_stiffness, model.elements, nodes, bonds);
+
+  // The used bond slots and the particles (state.hpp), kept up to date by the conversion.
+  bonds.used = View<int*>("fracta::bond_used", nb);
+  bonds.used_count = build_used_bonds(bonds);
+  nodes.particle_list = View<int*>("fracta::node_particle_list", nn);
+  nodes.particle_count = build_particle_list(nodes);
+  model.lists = ListWorkspace(std::max(nb, nn));
 }
 
 }  // namespace

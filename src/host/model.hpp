@@ -46,6 +46,7 @@ struct Model {
   View<int*> element_adaptive;  // 1 for elements of adaptive bodies and regions
   bool has_adaptive = false;
   View<int*> new_cells, active_scratch;       // conversion workspace (capacity: all elements)
+  ListWorkspace lists;                        // conversion workspace for the lattice lists
   View<LatticeStiffness*> lattice_stiffness;  // per material
   View<BondLaw*> bond_laws;                   // per material
   // Disc contact (particles and FE boundary nodes); null when the scene has no discs.

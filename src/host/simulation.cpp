@@ -48,40 +48,47 @@ struct ProbeGather {
   }
 };
 
-// out += sign * (f, moment) of every node: called with -1 before and +1 after a force
-// evaluation, it leaves that evaluation's own contribution in `out`.
-void store_forces(const Nodes& nodes, const View<double* [3]>& out, double sign) {
+// out = -(f, moment) of every contact disc before the contact's force evaluation (the contact
+// acts on nothing else; the other nodes' entries stay 0).
+void store_forces_before(const Nodes& nodes, const View<const int*>& discs,
+                         const View<double* [3]>& out) {
   const auto f = nodes.f;
   const auto moment = nodes.moment;
   Kokkos::parallel_for(
-      "fracta::store_forces", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
-      KOKKOS_LAMBDA(const int n) {
-        if (sign < 0.0) {
-          out(n, 0) = -f(n, 0);
-          out(n, 1) = -f(n, 1);
-          out(n, 2) = -moment(n);
-        } else {
-          out(n, 0) += f(n, 0);
-          out(n, 1) += f(n, 1);
-          out(n, 2) += moment(n);
-        }
+      "fracta::store_forces", Kokkos::RangePolicy<ExecSpace>(0, discs.extent(0)),
+      KOKKOS_LAMBDA(const int a) {
+        const int n = discs(a);
+        out(n, 0) = -f(n, 0);
+        out(n, 1) = -f(n, 1);
+        out(n, 2) = -moment(n);
       });
 }
 
-// Trapezoidal work (J) of forces applied at both ends of a step on the mid-step velocities:
-// dt/2 sum v(n+1/2) . (f(n) + f(n+1)) (+ spin x moment for discs).
-double contact_work(const Nodes& nodes, const View<double* [3]>& before,
-                    const View<double* [3]>& after, double dt) {
+// After the evaluation: after += (f, moment), which leaves the contact's own forces in it, and
+// their trapezoidal work (J) over the step on the mid-step velocities, with `before` the last
+// evaluation's: dt/2 sum v(n+1/2) . (f(n) + f(n+1)) (+ spin x moment for discs), over the
+// contact discs (increasing: the other nodes' terms are zeros, so the sum is the one over every
+// node).
+double store_forces_after_and_work(const Nodes& nodes, const View<const int*>& discs,
+                                   const View<double* [3]>& before, const View<double* [3]>& after,
+                                   double dt) {
   double work = 0.0;
+  const auto f = nodes.f;
+  const auto moment = nodes.moment;
   const auto v = nodes.v;
   const auto spin = nodes.spin;
   const auto particle = nodes.particle;
   Kokkos::parallel_reduce(
-      "fracta::contact_work", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
-      KOKKOS_LAMBDA(const int n, double& w) {
-        w += 0.5 * dt *
-             (v(n, 0) * (before(n, 0) + after(n, 0)) + v(n, 1) * (before(n, 1) + after(n, 1)));
-        if (particle(n)) w += 0.5 * dt * spin(n) * (before(n, 2) + after(n, 2));
+      "fracta::contact_work", Kokkos::RangePolicy<ExecSpace>(0, discs.extent(0)),
+      KOKKOS_LAMBDA(const int a, double& w) {
+        const int n = discs(a);
+        const double fx = after(n, 0) + f(n, 0), fy = after(n, 1) + f(n, 1);
+        const double m = after(n, 2) + moment(n);
+        after(n, 0) = fx;
+        after(n, 1) = fy;
+        after(n, 2) = m;
+        w += 0.5 * dt * (v(n, 0) * (before(n, 0) + fx) + v(n, 1) * (before(n, 1) + fy));
+        if (particle(n)) w += 0.5 * dt * spin(n) * (before(n, 2) + m);
       },
       work);
   return work;
@@ -112,7 +119,7 @@ Simulation::Simulation(const Case& c) : model_(build_model(c)) {
   // Initial forces (dt = 0: no strain increment) give f(0) and the first stable step.
   // The bond network's bound: bonds only weaken or break, so it stays valid until a conversion
   // adds stiffness; it allows 6 contacts per disc.
-  bond_dt_bound_ = bond_stable_dt(model_.nodes, model_.bonds, 6);
+  bond_dt_bound_ = bond_stable_dt(model_.nodes, model_.bonds, 6, stable_dt_);
   apply_loads(model_.nodes, model_.tables, model_.pressure_edges, model_.nodal_forces,
               c.sim.thickness, 0.0);
   dt_bound_ = evaluate_forces(0.0);
@@ -152,8 +159,8 @@ double Simulation::evaluate_forces(double dt) {
                                           m.elements.stress,
                                           m.elements.qp_per_element,
                                           m.scene.sim.conversion_on_tension};
-      bound =
-          compute_fe_forces(m.nodes, m.elements, m.materials, p, criterion, conversion_pending_);
+      bound = compute_fe_forces(m.nodes, m.elements, m.materials, p, criterion, conversion_pending_,
+                                conversion_candidates_);
     } else {
       bound = compute_fe_forces(m.nodes, m.elements, m.materials, p);
     }
@@ -179,13 +186,14 @@ double Simulation::evaluate_forces(double dt) {
       contact_force_prev_ = View<double* [3]>("fracta::contact_force_prev", m.nodes.count);
     }
     // The contact's own forces are the change it makes to the accumulators (fx, fy, moment).
-    store_forces(m.nodes, contact_force_, -1.0);
+    const auto discs = m.contacts->discs();
+    store_forces_before(m.nodes, discs, contact_force_);
     const ContactStepResult r = m.contacts->compute_forces(m.nodes, m.topology, dt);
-    store_forces(m.nodes, contact_force_, 1.0);
     // Work of the contact forces over the step by the trapezoidal rule with v(n+1/2), the rule
     // under which central differences balance energy (as the external work): what the contact
     // did not store as elastic energy it dissipated (damping, friction, clamping).
-    const double work = contact_work(m.nodes, contact_force_prev_, contact_force_, dt);
+    const double work =
+        store_forces_after_and_work(m.nodes, discs, contact_force_prev_, contact_force_, dt);
     if (dt > 0.0) contact_dissipated_ += -work - (r.elastic_energy - contact_elastic_);
     contact_elastic_ = r.elastic_energy;
     touching_ = r.touching;
@@ -203,16 +211,48 @@ void Simulation::convert() {
   conversions_this_step_ = 0;
   if (!pending) return;  // no element met its criterion in the force evaluations since last time
   Kokkos::deep_copy(conversion_pending_, 0);
-  const int n = compact_converted(m.elements, m.element_adaptive, m.materials,
-                                  m.scene.sim.conversion_on_tension, m.new_cells, m.active_scratch);
+  // Few flagged: check just those (compact_candidates); many: the sweep (compact_converted).
+  // Both give the same lists in the same order.
+  int n = 0;
+  const bool on_tension = m.scene.sim.conversion_on_tension;
+  if (pending > 0 && pending <= static_cast<int>(conversion_candidates_.extent(0)) &&
+      m.lists.keep.extent(0) >= static_cast<size_t>(pending)) {
+    n = compact_candidates(m.elements, m.element_adaptive, m.materials, on_tension,
+                           conversion_candidates_, pending, m.lists.keep, m.lists.sorted,
+                           m.new_cells, m.active_scratch);
+  } else {
+    if (conversion_flag_.extent(0) < static_cast<size_t>(m.elements.count)) {
+      conversion_flag_ = View<int*>("fracta::conversion_flag", m.elements.count);
+      conversion_position_ = View<int*>("fracta::conversion_position", m.elements.count);
+    }
+    n = compact_converted(m.elements, m.element_adaptive, m.materials, on_tension, m.new_cells,
+                          m.active_scratch, conversion_flag_, conversion_position_);
+  }
   conversions_this_step_ = n;
   if (n == 0) return;
   const LatticeTotals before = lattice_totals(m.nodes, m.bonds, 0.0);
+  // The slots and nodes this conversion activates go into the lists (state.hpp): collected
+  // before the activation, inserted after it; a large batch rebuilds the lists instead.
+  const bool lists = m.bonds.used.extent(0) > 0 && m.nodes.particle_list.extent(0) > 0;
+  const bool insert = lists && 6 * n <= ListWorkspace::kCapacity;
+  if (insert) {
+    collect_new_bonds(m.new_cells, n, m.element_bonds, m.bonds, m.lists.bond_candidates);
+    collect_new_particles(m.new_cells, n, m.elements, m.nodes, m.lists.particle_candidates);
+  }
   const double element_energy = prestress_converted_bonds(
       m.new_cells, n, m.element_bonds, m.lattice_stiffness, m.elements, m.nodes, m.bonds);
   activate_element_bonds(m.new_cells, n, m.element_bonds, m.lattice_stiffness, m.elements, m.nodes,
                          m.bonds);
   finish_converted_bonds(m.new_cells, n, m.element_bonds, m.nodes, m.bonds);
+  if (insert) {
+    m.bonds.used_count =
+        insert_sorted(m.bonds.used, m.bonds.used_count, m.lists.bond_candidates, 6 * n, m.lists);
+    m.nodes.particle_count = insert_sorted(m.nodes.particle_list, m.nodes.particle_count,
+                                           m.lists.particle_candidates, 4 * n, m.lists);
+  } else if (lists) {
+    m.bonds.used_count = build_used_bonds(m.bonds);
+    m.nodes.particle_count = build_particle_list(m.nodes);
+  }
   Kokkos::deep_copy(
       Kokkos::subview(m.converted, std::make_pair(m.converted_count, m.converted_count + n)),
       Kokkos::subview(m.new_cells, std::make_pair(0, n)));
@@ -224,7 +264,7 @@ void Simulation::convert() {
   const LatticeTotals after = lattice_totals(m.nodes, m.bonds, 0.0);
   conversion_energy_ += element_energy - (after.bond_elastic - before.bond_elastic) -
                         (after.rotational_kinetic - before.rotational_kinetic);
-  bond_dt_bound_ = bond_stable_dt(m.nodes, m.bonds, 6);
+  bond_dt_bound_ = bond_stable_dt(m.nodes, m.bonds, 6, stable_dt_);
   dt_bound_ = std::min(dt_bound_, bond_dt_bound_);
   dt_ = next_dt();
 }
@@ -472,6 +512,8 @@ void Simulation::save_snapshot() {
   snapshot_.broken_bonds = broken_bonds_;
   snapshot_.touching = touching_;
   snapshot_.active_elements = model_.elements.active_count;
+  snapshot_.used_bonds = model_.bonds.used_count;
+  snapshot_.particles = model_.nodes.particle_count;
   snapshot_.steps = steps_;
 }
 
@@ -495,6 +537,11 @@ void Simulation::restore_snapshot() {
   broken_bonds_ = snapshot_.broken_bonds;
   touching_ = snapshot_.touching;
   model_.elements.active_count = snapshot_.active_elements;
+  model_.bonds.used_count = snapshot_.used_bonds;
+  model_.nodes.particle_count = snapshot_.particles;
+  // Flags of the abandoned steps name positions in another active list: drop them (the next
+  // force evaluation flags the restored state).
+  Kokkos::deep_copy(conversion_pending_, 0);
   steps_ = snapshot_.steps;
 }
 

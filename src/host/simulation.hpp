@@ -62,8 +62,12 @@ class Simulation {
   View<double* [7]> probe_values_;
   FragmentWorkspace fragments_;
   View<double*[3]> contact_force_, contact_force_prev_;
-  // Raised by the FE kernel when an adaptive element meets its conversion criterion.
-  View<int> conversion_pending_{"fracta::conversion_pending"};  // contact's own (fx, fy, moment)
+  StableDtWorkspace stable_dt_;  // bond_stable_dt without allocations
+  // Counts the adaptive elements the FE kernel flagged for conversion since the last one;
+  // the candidates hold the first ones' active indices (compact_candidates).
+  View<int> conversion_pending_{"fracta::conversion_pending"};
+  View<int*> conversion_candidates_{"fracta::conversion_candidates", ListWorkspace::kCapacity};
+  View<int*> conversion_flag_, conversion_position_;  // compact_converted's work space
 
   struct Snapshot {
     StateViews views;
@@ -74,6 +78,7 @@ class Simulation {
     std::vector<RigidBody> rigid;
     long broken_bonds = 0, steps = -1, touching = 0;
     int active_elements = 0;
+    int used_bonds = 0, particles = 0;  // list counts (Bonds::used, Nodes::particle_list)
   } snapshot_;
 };
 

@@ -66,6 +66,8 @@ void for_each_state_view(StateViews& a, StateViews& b, F&& f) {
   f("bonds.damage", bo.damage, sb.damage);
   f("bonds.onset_separation", bo.onset_separation, sb.onset_separation);
   f("bonds.final_separation", bo.final_separation, sb.final_separation);
+  f("bonds.used", bo.used, sb.used);                            // [0, bonds.used_count)
+  f("nodes.particle_list", n.particle_list, sn.particle_list);  // [0, nodes.particle_count)
   f("converted", a.converted, b.converted);
   f("contact_force_previous", a.contact_force_previous, b.contact_force_previous);
 }

@@ -314,16 +314,45 @@ struct GatherBondForces {
   }
 };
 
+// The same over the used slots (Bonds::used) and the particles (Nodes::particle_list): a slot
+// never activated applies nothing, and only particles are ends of active bonds. The lists are
+// increasing, so the order of every sum is the one of the sweeps over all slots and nodes.
+struct BondForcesUsed {
+  BondForces forces;
+  KOKKOS_INLINE_FUNCTION void operator()(const int k, Sums<3>& acc) const {
+    forces(forces.bonds.used(k), acc);
+  }
+};
+
+struct GatherBondForcesParticles {
+  GatherBondForces gather;
+  KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
+    gather(gather.nodes.particle_list(k));
+  }
+};
+
 inline BondStepResult compute_bond_forces(const Nodes& nodes, const Elements& elements,
                                           const Bonds& bonds, const View<const BondLaw*>& laws,
                                           double dt) {
   BondStepResult r;
   if (bonds.count == 0) return r;
   Sums<3> s;
-  Kokkos::parallel_reduce("fracta::bond_forces", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
-                          BondForces{nodes, elements, bonds, laws, dt}, Kokkos::Sum<Sums<3>>(s));
-  Kokkos::parallel_for("fracta::bond_gather", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
-                       GatherBondForces{nodes, bonds});
+  const BondForces forces{nodes, elements, bonds, laws, dt};
+  // (A list of every slot, or every node, is the identity: sweep directly.)
+  if (bonds.used.extent(0) > 0 && bonds.used_count < bonds.count)
+    Kokkos::parallel_reduce("fracta::bond_forces",
+                            Kokkos::RangePolicy<ExecSpace>(0, bonds.used_count),
+                            BondForcesUsed{forces}, Kokkos::Sum<Sums<3>>(s));
+  else
+    Kokkos::parallel_reduce("fracta::bond_forces", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
+                            forces, Kokkos::Sum<Sums<3>>(s));
+  if (nodes.particle_list.extent(0) > 0 && nodes.particle_count < nodes.count)
+    Kokkos::parallel_for("fracta::bond_gather",
+                         Kokkos::RangePolicy<ExecSpace>(0, nodes.particle_count),
+                         GatherBondForcesParticles{GatherBondForces{nodes, bonds}});
+  else
+    Kokkos::parallel_for("fracta::bond_gather", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
+                         GatherBondForces{nodes, bonds});
   r.fracture_energy = s.v[0];
   r.plastic_work = s.v[1];
   r.broken = static_cast<long>(s.v[2] + 0.5);
@@ -335,54 +364,113 @@ inline BondStepResult compute_bond_forces(const Nodes& nodes, const Elements& el
 // the rows of its two discs; `contact_allowance` adds that many contacts of the disc's contact
 // stiffness to every contact disc (particles and FE boundary nodes). Returns 2 / sqrt(lambda_max)
 // (s), or a huge value if no bond.
+struct GershgorinRows {
+  Nodes nodes;
+  Bonds bonds;
+  View<double* [2]> row;  // translation, rotation
+  KOKKOS_INLINE_FUNCTION void operator()(const int b) const {
+    if (bonds.state(b) != kBondActive) return;
+    const int ends[2] = {bonds.nodes(b, 0), bonds.nodes(b, 1)};
+    const double k = bonds.kn(b) + bonds.ks(b), ks = bonds.ks(b);
+    for (int s = 0; s < 2; ++s) {
+      const int i = ends[s], j = ends[1 - s];
+      const double mi = nodes.mass(i), mj = nodes.mass(j);
+      const double Ii = nodes.inertia(i), Ij = nodes.inertia(j);
+      const double ri = nodes.radius(i), rj = nodes.radius(j);
+      // |K| entries of a 2D spring pair, row x of disc i: |kn nx^2 + ks tx^2| +
+      // |(kn - ks) nx ny| <= (1 + sqrt 2)/2 (kn + ks) towards i and towards j; shear couples
+      // the translation to both rotations by r ks |tx| <= r ks; rotations couple by r^2 ks
+      // and to translations by r ks (|tx| + |ty|) <= sqrt 2 r ks.
+      const double trans = 1.2071067811865475 * k * (1.0 / mi + 1.0 / sqrt_(mi * mj)) +
+                           ks * (ri / sqrt_(mi * Ii) + rj / sqrt_(mi * Ij));
+      const double rot =
+          ks * (ri * ri / Ii + ri * rj / sqrt_(Ii * Ij)) +
+          1.4142135623730951 * ks * ri * (1.0 / sqrt_(Ii * mi) + 1.0 / sqrt_(Ii * mj));
+      Kokkos::atomic_add(&row(i, 0), trans);
+      Kokkos::atomic_add(&row(i, 1), rot);
+    }
+  }
+};
+
+// Row bound of node n: its bond rows and the allowance of contacts.
+struct GershgorinBound {
+  Nodes nodes;
+  View<double* [2]> row;
+  double allowance;
+  KOKKOS_INLINE_FUNCTION double contact(const int n) const {
+    // A contact pair adds at most 1.2071 kc (1/m_i + 1/sqrt(m_i m_j)) <= 3.7 kc / m_i
+    // (a neighbour of at least a quarter of the mass: a corner node).
+    return allowance * 3.7 * nodes.contact_stiffness(n) / nodes.mass(n);
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(const int n, double& lmax) const {
+    if (!nodes.particle(n) && !nodes.contact_disc(n)) return;
+    const double l = max_(row(n, 0), row(n, 1)) + contact(n);
+    lmax = lmax > l ? lmax : l;
+  }
+};
+
 inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, int contact_allowance) {
   if (!nodes.has_particles()) return 1e300;
   View<double* [2]> row("fracta::gershgorin_rows", nodes.count);  // translation, rotation
-  const auto x = nodes.x;
-  const auto mass = nodes.mass;
-  const auto inertia = nodes.inertia;
-  const auto radius = nodes.radius;
-  if (bonds.count > 0) {
-    Kokkos::parallel_for(
-        "fracta::bond_gershgorin", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
-        KOKKOS_LAMBDA(const int b) {
-          if (bonds.state(b) != kBondActive) return;
-          const int ends[2] = {bonds.nodes(b, 0), bonds.nodes(b, 1)};
-          const double k = bonds.kn(b) + bonds.ks(b), ks = bonds.ks(b);
-          for (int s = 0; s < 2; ++s) {
-            const int i = ends[s], j = ends[1 - s];
-            const double mi = mass(i), mj = mass(j), Ii = inertia(i), Ij = inertia(j);
-            const double ri = radius(i), rj = radius(j);
-            // |K| entries of a 2D spring pair, row x of disc i: |kn nx^2 + ks tx^2| +
-            // |(kn - ks) nx ny| <= (1 + sqrt 2)/2 (kn + ks) towards i and towards j; shear couples
-            // the translation to both rotations by r ks |tx| <= r ks; rotations couple by r^2 ks
-            // and to translations by r ks (|tx| + |ty|) <= sqrt 2 r ks.
-            const double trans = 1.2071067811865475 * k * (1.0 / mi + 1.0 / sqrt_(mi * mj)) +
-                                 ks * (ri / sqrt_(mi * Ii) + rj / sqrt_(mi * Ij));
-            const double rot =
-                ks * (ri * ri / Ii + ri * rj / sqrt_(Ii * Ij)) +
-                1.4142135623730951 * ks * ri * (1.0 / sqrt_(Ii * mi) + 1.0 / sqrt_(Ii * mj));
-            Kokkos::atomic_add(&row(i, 0), trans);
-            Kokkos::atomic_add(&row(i, 1), rot);
-          }
-        });
-  }
+  if (bonds.count > 0)
+    Kokkos::parallel_for("fracta::bond_gershgorin", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
+                         GershgorinRows{nodes, bonds, row});
   double lambda = 0.0;
-  const auto particle = nodes.particle;
-  const auto disc = nodes.contact_disc;
-  const auto kc = nodes.contact_stiffness;
-  const double allowance = contact_allowance;
+  Kokkos::parallel_reduce("fracta::bond_stable_dt", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
+                          GershgorinBound{nodes, row, static_cast<double>(contact_allowance)},
+                          Kokkos::Max<double>(lambda));
+  return lambda > 0.0 ? 2.0 / sqrt_(lambda) : 1e300;
+}
+
+// The same bound over the lists (Bonds::used, Nodes::particle_list), without allocating: the
+// rows live in the work space (only the particles' entries are ever written: the ends of
+// active bonds are particles; the others stay 0). A contact disc that is not a particle then
+// has the bound contact(n) alone, and a particle's bound is at least its contact(n), so
+// lambda = max(max over contact discs of contact(n), max over particles of their bound): the
+// first term is constant and computed once. Max is exact: the same value as the sweep.
+struct StableDtWorkspace {
+  View<double* [2]> row;
+  double disc_lambda = 0.0;  // max over contact discs of contact(n)
+  int allowance = -1;        // the allowance disc_lambda was computed for (-1: none yet)
+};
+
+inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, int contact_allowance,
+                             StableDtWorkspace& ws) {
+  if (!nodes.has_particles()) return 1e300;
+  if (bonds.used.extent(0) == 0 || nodes.particle_list.extent(0) == 0)
+    return bond_stable_dt(nodes, bonds, contact_allowance);
+  if (ws.row.extent(0) != static_cast<size_t>(nodes.count))
+    ws.row = View<double* [2]>("fracta::gershgorin_rows", nodes.count);
+  const GershgorinBound bound{nodes, ws.row, static_cast<double>(contact_allowance)};
+  if (ws.allowance != contact_allowance) {
+    const auto disc = nodes.contact_disc;
+    ws.disc_lambda = 0.0;
+    Kokkos::parallel_reduce(
+        "fracta::disc_stable_dt", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
+        KOKKOS_LAMBDA(const int n, double& lmax) {
+          if (!disc(n)) return;
+          const double l = bound.contact(n);
+          lmax = lmax > l ? lmax : l;
+        },
+        Kokkos::Max<double>(ws.disc_lambda));
+    ws.allowance = contact_allowance;
+  }
+  const auto row = ws.row;
+  const auto particles = nodes.particle_list;
+  const auto used = bonds.used;
+  Kokkos::parallel_for(
+      "fracta::gershgorin_zero", Kokkos::RangePolicy<ExecSpace>(0, nodes.particle_count),
+      KOKKOS_LAMBDA(const int k) { row(particles(k), 0) = row(particles(k), 1) = 0.0; });
+  const GershgorinRows rows{nodes, bonds, row};
+  Kokkos::parallel_for(
+      "fracta::bond_gershgorin", Kokkos::RangePolicy<ExecSpace>(0, bonds.used_count),
+      KOKKOS_LAMBDA(const int k) { rows(used(k)); });
+  double lambda = 0.0;
   Kokkos::parallel_reduce(
-      "fracta::bond_stable_dt", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
-      KOKKOS_LAMBDA(const int n, double& lmax) {
-        if (!particle(n) && !disc(n)) return;
-        // A contact pair adds at most 1.2071 kc (1/m_i + 1/sqrt(m_i m_j)) <= 3.7 kc / m_i
-        // (a neighbour of at least a quarter of the mass: a corner node).
-        const double contact = allowance * 3.7 * kc(n) / mass(n);
-        const double l = max_(row(n, 0), row(n, 1)) + contact;
-        lmax = lmax > l ? lmax : l;
-      },
+      "fracta::bond_stable_dt", Kokkos::RangePolicy<ExecSpace>(0, nodes.particle_count),
+      KOKKOS_LAMBDA(const int k, double& lmax) { bound(particles(k), lmax); },
       Kokkos::Max<double>(lambda));
+  lambda = lambda > ws.disc_lambda ? lambda : ws.disc_lambda;
   return lambda > 0.0 ? 2.0 / sqrt_(lambda) : 1e300;
 }
 

@@ -60,8 +60,51 @@ struct ContactLaw {
 // v[2] number of touching pairs (overlap > 0 and not joined).
 using ContactSums = Sums<3>;
 
+// What joins each candidate pair, found once per candidate list (pair_topology): the bond
+// slot between the two discs and the elements they share, -1 where there is none. Whether the
+// pair is joined then takes their states alone: the same answer as Topology::joined, whose
+// bond and element lists never change (only the states do). kJoinedUncached (in the slot
+// entry): more slots or elements than the entry holds; such a pair asks Topology::joined.
+constexpr int kJoinedUncached = -2;
+
+struct PairTopology {
+  Topology topo;
+  View<const int*> pair_i, pair_j;
+  View<int* [3]> joins;  // slot, element, element
+  KOKKOS_INLINE_FUNCTION void operator()(const int p) const {
+    const int i = pair_i(p), j = pair_j(p);
+    int slot = -1, slots = 0, el[2] = {-1, -1}, elements = 0;
+    for (int k = topo.node_bond_offset(i); k < topo.node_bond_offset(i + 1); ++k) {
+      const int b = topo.node_bond(k);
+      if (topo.bond_nodes(b, 0) == j || topo.bond_nodes(b, 1) == j) {
+        slot = b;
+        ++slots;
+      }
+    }
+    for (int k = topo.node_element_offset(i); k < topo.node_element_offset(i + 1); ++k) {
+      const int e = topo.node_element(k);
+      for (int k2 = topo.node_element_offset(j); k2 < topo.node_element_offset(j + 1); ++k2)
+        if (topo.node_element(k2) == e) {
+          if (elements < 2) el[elements] = e;
+          ++elements;
+          break;
+        }
+    }
+    joins(p, 0) = slots > 1 || elements > 2 ? kJoinedUncached : slot;
+    joins(p, 1) = el[0];
+    joins(p, 2) = el[1];
+  }
+};
+
+inline void pair_topology(const Topology& topo, const View<const int*>& pair_i,
+                          const View<const int*>& pair_j, long count, const View<int* [3]>& joins) {
+  Kokkos::parallel_for("fracta::contact_pair_topology", Kokkos::RangePolicy<ExecSpace>(0, count),
+                       PairTopology{topo, pair_i, pair_j, joins});
+}
+
 struct ContactForceKernel {
   View<const int*> pair_i, pair_j;
+  View<const int* [3]> joins;  // pair_topology; empty: ask Topology::joined
   View<const double*[2]> x, v;
   View<const double*> mass, radius, inertia, spin, stiffness;
   View<const int*> fixed, particle;
@@ -81,7 +124,7 @@ struct ContactForceKernel {
     const double inv_mi = (fixed(i) & wall) == wall ? 0.0 : 1.0 / mass(i);
     const double inv_mj = (fixed(j) & wall) == wall ? 0.0 : 1.0 / mass(j);
     if (inv_mi + inv_mj <= 0.0) return;
-    if (topo.joined(i, j)) return;
+    if (joins.extent(0) == 0 ? topo.joined(i, j) : joined(p, i, j)) return;
 
     const double d = sqrt_(d2);
     const double delta = ri + rj - d;
@@ -122,14 +165,24 @@ struct ContactForceKernel {
     sums.v[1] += ((fn - k * delta) * delta_dot_full + fs * vt_full) * dt;
     sums.v[2] += 1.0;
   }
+
+  KOKKOS_INLINE_FUNCTION bool joined(const int p, const int i, const int j) const {
+    const int b = joins(p, 0), e0 = joins(p, 1), e1 = joins(p, 2);
+    if (b == kJoinedUncached) return topo.joined(i, j);
+    return (b >= 0 && topo.bond_state(b) == kBondActive) || (e0 >= 0 && topo.element_alive(e0)) ||
+           (e1 >= 0 && topo.element_alive(e1));
+  }
 };
 
 // Adds the contact forces of the candidate pairs [0, count) to nodes.f and nodes.moment.
+// joins: pair_topology of these pairs, or empty.
 inline ContactSums contact_forces(const Nodes& nodes, const Topology& topo,
                                   const View<const int*>& pair_i, const View<const int*>& pair_j,
-                                  long count, const ContactLaw& law, double dt) {
+                                  long count, const ContactLaw& law, double dt,
+                                  const View<const int* [3]>& joins = {}) {
   ContactForceKernel kernel{pair_i,
                             pair_j,
+                            joins,
                             nodes.x,
                             nodes.v,
                             nodes.mass,

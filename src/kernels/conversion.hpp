@@ -10,6 +10,19 @@
 
 namespace fracta {
 
+// Number of entries of the increasing list [0, count) that are < value.
+KOKKOS_INLINE_FUNCTION int count_below(const View<int*>& list, int count, int value) {
+  int lo = 0, hi = count;
+  while (lo < hi) {
+    const int mid = (lo + hi) / 2;
+    if (list(mid) < value)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo;
+}
+
 // Lattice spring stiffnesses of the formulation (DESIGN.md 1.2), N/m:
 // k1 = E t / (1 + nu), k2 = nu E t / (1 - nu^2), ks = E t (1 - 3 nu) / (1 - nu^2), with
 // (E, nu) -> (E / (1 - nu^2), nu / (1 - nu)) in plane strain (paper Eq. 4). They give
@@ -87,10 +100,13 @@ inline void activate_element_bonds(const View<int*>& converted, int count,
   // Effective areas S = kn L0 / E_eff: the bond stress fn / S then equals E_eff times the bond
   // strain, so an orthogonal bond reaches sigma_t exactly when a block in uniaxial tension
   // along it carries sigma_t (DESIGN.md 1.2 asks for that calibration).
+  // Only the slots of these cells changed stiffness: the others keep their areas. (A slot of
+  // two of these cells is written twice with the same value.)
   Kokkos::parallel_for(
-      "fracta::bond_areas", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
-      KOKKOS_LAMBDA(const int b) {
-        if (bonds.state(b) != kBondActive) return;
+      "fracta::bond_areas", Kokkos::RangePolicy<ExecSpace>(0, 6 * count),
+      KOKKOS_LAMBDA(const int k) {
+        const int b = element_bonds(converted(k / 6), k % 6);
+        if (b < 0 || bonds.state(b) != kBondActive) return;
         bonds.area(b) =
             bonds.kn(b) * bonds.length0(b) / stiffness(bonds.material(b)).youngs_modulus_eff;
       });
@@ -137,9 +153,12 @@ struct ConversionCriterion {
 // slot in the new active list or in the converted list, and a scatter writes both. Deterministic:
 // the order of both lists follows the old active list. Returns the number converted; the new
 // cells are in new_cells[0, n).
+// flag and position: work space of at least el.active_count entries (the overload below
+// allocates them).
 inline int compact_converted(Elements& el, const View<const int*>& adaptive,
                              const View<const MaterialLaw*>& materials, bool on_tension,
-                             const View<int*>& new_cells, View<int*>& active_scratch) {
+                             const View<int*>& new_cells, View<int*>& active_scratch,
+                             const View<int*>& flag, const View<int*>& position) {
   const int n_active = el.active_count;
   if (n_active == 0) return 0;
   const auto active = el.active;
@@ -156,12 +175,10 @@ inline int compact_converted(Elements& el, const View<const int*>& adaptive,
       "fracta::conversion_count", Kokkos::RangePolicy<ExecSpace>(0, n_active),
       KOKKOS_LAMBDA(const int i, int& count) { count += criterion(i); }, flagged);
   if (flagged == 0) return 0;
-  View<int*> flag("fracta::conversion_flag", n_active);
   Kokkos::parallel_for(
       "fracta::conversion_flag", Kokkos::RangePolicy<ExecSpace>(0, n_active),
       KOKKOS_LAMBDA(const int i) { flag(i) = criterion(i); });
   int converted = 0;
-  View<int*> position("fracta::conversion_position", n_active);
   Kokkos::parallel_scan(
       "fracta::conversion_scan", Kokkos::RangePolicy<ExecSpace>(0, n_active),
       KOKKOS_LAMBDA(const int i, int& partial, const bool final) {
@@ -188,6 +205,84 @@ inline int compact_converted(Elements& el, const View<const int*>& adaptive,
       });
   // The compacted list becomes the active list; the old one is the next scratch.
   std::swap(el.active, active_scratch);
+  el.active_count = n_active - converted;
+  return converted;
+}
+
+inline int compact_converted(Elements& el, const View<const int*>& adaptive,
+                             const View<const MaterialLaw*>& materials, bool on_tension,
+                             const View<int*>& new_cells, View<int*>& active_scratch) {
+  const View<int*> flag("fracta::conversion_flag", el.active_count);
+  const View<int*> position("fracta::conversion_position", el.active_count);
+  return compact_converted(el, adaptive, materials, on_tension, new_cells, active_scratch, flag,
+                           position);
+}
+
+// The same conversion from the candidates the FE kernel flagged (compute_fe_forces): active
+// indices candidates[0, k), any order, duplicates allowed, a superset of the elements that meet
+// the criterion. They are deduplicated, checked exactly and ranked pairwise (O(k^2): k is
+// small, the caller takes compact_converted for large k), which gives the converted positions
+// in increasing order; then one pass over the tail from the first converted position moves
+// every remaining element to its new position (its index less the number of converted
+// positions below it, a binary search), in place through active_scratch. The result is
+// compact_converted's: the same lists in the same order. keep and sorted hold >= k entries.
+inline int compact_candidates(Elements& el, const View<const int*>& adaptive,
+                              const View<const MaterialLaw*>& materials, bool on_tension,
+                              const View<int*>& candidates, int k, const View<int*>& keep,
+                              const View<int*>& sorted, const View<int*>& new_cells,
+                              View<int*>& active_scratch) {
+  const int n_active = el.active_count;
+  if (n_active == 0 || k == 0) return 0;
+  const ConversionCriterion criterion{el.active, adaptive,  materials,         el.material,
+                                      el.epeq,   el.stress, el.qp_per_element, on_tension};
+  Kokkos::parallel_for(
+      "fracta::conversion_candidates", Kokkos::RangePolicy<ExecSpace>(0, k),
+      KOKKOS_LAMBDA(const int c) {
+        const int i = candidates(c);
+        int first = i >= 0 && i < n_active ? 1 : 0;
+        for (int j = 0; j < c && first; ++j)
+          if (candidates(j) == i) first = 0;
+        keep(c) = first && criterion(i) ? 1 : 0;
+      });
+  int converted = 0;
+  Kokkos::parallel_reduce(
+      "fracta::conversion_rank", Kokkos::RangePolicy<ExecSpace>(0, k),
+      KOKKOS_LAMBDA(const int c, int& n) {
+        if (!keep(c)) return;
+        const int i = candidates(c);
+        int rank = 0;
+        for (int j = 0; j < k; ++j) rank += keep(j) && candidates(j) < i ? 1 : 0;
+        sorted(rank) = i;
+        ++n;
+      },
+      converted);
+  if (converted == 0) return 0;
+  const auto active = el.active;
+  const auto alive = el.alive;
+  const auto corner_force = el.corner_force;
+  Kokkos::parallel_for(
+      "fracta::conversion_new_cells", Kokkos::RangePolicy<ExecSpace>(0, converted),
+      KOKKOS_LAMBDA(const int j) {
+        const int e = active(sorted(j));
+        new_cells(j) = e;
+        alive(e) = 0;
+        // Its corners leave the node gather (GatherCornerForces) for good.
+        for (int a = 0; a < 4; ++a) corner_force(e, a, 0) = corner_force(e, a, 1) = 0.0;
+      });
+  // Only the tail from the first converted position moves: copy it aside, then write each
+  // remaining element at its index less the number converted below it (a binary search).
+  int first = 0;
+  Kokkos::deep_copy(first, Kokkos::subview(sorted, 0));
+  const auto tail = std::make_pair(first, n_active);
+  const auto scratch = active_scratch;
+  Kokkos::deep_copy(Kokkos::subview(scratch, tail), Kokkos::subview(active, tail));
+  Kokkos::parallel_for(
+      "fracta::conversion_shift", Kokkos::RangePolicy<ExecSpace>(first, n_active),
+      KOKKOS_LAMBDA(const int i) {
+        const int below = count_below(sorted, converted, i);
+        if (below < converted && sorted(below) == i) return;  // converted
+        active(i - below) = scratch(i);
+      });
   el.active_count = n_active - converted;
   return converted;
 }
@@ -302,6 +397,137 @@ inline void finish_converted_bonds(const View<int*>& cells, int count,
           Kokkos::atomic_fetch_min(&nodes.radius(j), r);
         }
       });
+}
+
+}  // namespace fracta
+
+namespace fracta {
+
+// Lists of the used bond slots (Bonds::used) and of the particles (Nodes::particle_list), both
+// increasing. They are functions of bonds.state and nodes.particle, built once by a scan and
+// then kept up to date by the conversion, which only adds entries: it collects the slots and
+// nodes it is about to activate (collect_new_*), and after activation inserts them
+// (insert_sorted). Deterministic: no atomic decides an order.
+
+// Rebuilds bonds.used from bonds.state; returns the count.
+inline int build_used_bonds(const Bonds& bonds) {
+  int count = 0;
+  if (bonds.count == 0) return count;
+  const auto state = bonds.state;
+  const auto used = bonds.used;
+  Kokkos::parallel_scan(
+      "fracta::used_bonds_scan", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
+      KOKKOS_LAMBDA(const int b, int& partial, const bool final) {
+        if (state(b) == kBondInactive) return;
+        if (final) used(partial) = b;
+        ++partial;
+      },
+      count);
+  return count;
+}
+
+// Rebuilds nodes.particle_list from nodes.particle; returns the count.
+inline int build_particle_list(const Nodes& nodes) {
+  int count = 0;
+  if (!nodes.has_particles()) return count;
+  const auto particle = nodes.particle;
+  const auto list = nodes.particle_list;
+  Kokkos::parallel_scan(
+      "fracta::particle_list_scan", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
+      KOKKOS_LAMBDA(const int n, int& partial, const bool final) {
+        if (!particle(n)) return;
+        if (final) list(partial) = n;
+        ++partial;
+      },
+      count);
+  return count;
+}
+
+// Work space of insert_sorted: candidates of at most kCapacity entries (larger batches rebuild
+// the lists with the scans above), and a merge buffer as long as the longest list.
+struct ListWorkspace {
+  static constexpr int kCapacity = 1024;
+  View<int*> bond_candidates, particle_candidates, keep, sorted, merged;
+  ListWorkspace() = default;
+  explicit ListWorkspace(int longest)
+      : bond_candidates("fracta::list_bond_candidates", kCapacity),
+        particle_candidates("fracta::list_particle_candidates", kCapacity),
+        keep("fracta::list_keep", kCapacity),
+        sorted("fracta::list_sorted", kCapacity),
+        merged(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::list_merged"), longest) {}
+};
+
+// Slots of the cells that the activation will turn from inactive to active (-1: none).
+inline void collect_new_bonds(const View<int*>& cells, int count,
+                              const View<int* [6]>& element_bonds, const Bonds& bonds,
+                              const View<int*>& candidates) {
+  const auto state = bonds.state;
+  Kokkos::parallel_for(
+      "fracta::collect_new_bonds", Kokkos::RangePolicy<ExecSpace>(0, 6 * count),
+      KOKKOS_LAMBDA(const int k) {
+        const int b = element_bonds(cells(k / 6), k % 6);
+        candidates(k) = b >= 0 && state(b) == kBondInactive ? b : -1;
+      });
+}
+
+// Corner nodes of the cells that the activation will make particles (-1: already one).
+inline void collect_new_particles(const View<int*>& cells, int count, const Elements& elements,
+                                  const Nodes& nodes, const View<int*>& candidates) {
+  const auto particle = nodes.particle;
+  const auto corners = elements.nodes;
+  Kokkos::parallel_for(
+      "fracta::collect_new_particles", Kokkos::RangePolicy<ExecSpace>(0, 4 * count),
+      KOKKOS_LAMBDA(const int k) {
+        const int n = corners(cells(k / 4), k % 4);
+        candidates(k) = particle(n) ? -1 : n;
+      });
+}
+
+// Inserts candidates[0, k) (any order, duplicates and -1 entries allowed, none of them in the
+// list) into the increasing list [0, count); returns the new count. k <= kCapacity: the
+// candidates are deduplicated and ranked pairwise (O(k^2), small), then the two increasing
+// lists are merged (every entry finds its place by a binary search in the other).
+inline int insert_sorted(const View<int*>& list, int count, const View<int*>& candidates, int k,
+                         const ListWorkspace& ws) {
+  if (k == 0) return count;
+  const auto keep = ws.keep;
+  const auto sorted = ws.sorted;
+  const auto merged = ws.merged;
+  Kokkos::parallel_for(
+      "fracta::list_dedupe", Kokkos::RangePolicy<ExecSpace>(0, k), KOKKOS_LAMBDA(const int i) {
+        const int v = candidates(i);
+        int first = v >= 0 ? 1 : 0;
+        for (int j = 0; j < i && first; ++j)
+          if (candidates(j) == v) first = 0;
+        keep(i) = first;
+      });
+  int added = 0;
+  Kokkos::parallel_reduce(
+      "fracta::list_rank", Kokkos::RangePolicy<ExecSpace>(0, k),
+      KOKKOS_LAMBDA(const int i, int& n) {
+        if (!keep(i)) return;
+        const int v = candidates(i);
+        int rank = 0;
+        for (int j = 0; j < k; ++j) rank += keep(j) && candidates(j) < v ? 1 : 0;
+        sorted(rank) = v;
+        ++n;
+      },
+      added);
+  if (added == 0) return count;
+  const int total = count + added;
+  Kokkos::parallel_for(
+      "fracta::list_merge", Kokkos::RangePolicy<ExecSpace>(0, total), KOKKOS_LAMBDA(const int i) {
+        if (i < count) {
+          const int v = list(i);
+          merged(i + count_below(sorted, added, v)) = v;
+        } else {
+          const int v = sorted(i - count);
+          merged(i - count + count_below(list, count, v)) = v;
+        }
+      });
+  Kokkos::deep_copy(Kokkos::subview(list, std::make_pair(0, total)),
+                    Kokkos::subview(merged, std::make_pair(0, total)));
+  return total;
 }
 
 }  // namespace fracta

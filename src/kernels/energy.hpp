@@ -49,10 +49,19 @@ struct LatticeTotals {
 inline LatticeTotals lattice_totals(const Nodes& nodes, const Bonds& bonds, double dt) {
   LatticeTotals t;
   if (!nodes.has_particles()) return t;
+  // Over the particle list and the used bond slots when the model keeps them (state.hpp): what
+  // the sweeps skip adds nothing (never-activated slots have no plastic work), and the lists
+  // are increasing, so the sums are the sweeps' sums.
+  const bool particle_list = nodes.particle_list.extent(0) > 0;
+  const bool used_list = bonds.used.extent(0) > 0;
+  const auto particles = nodes.particle_list;
+  const auto used = bonds.used;
   Sums<3> n;
   Kokkos::parallel_reduce(
-      "fracta::rotation_totals", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
-      KOKKOS_LAMBDA(const int i, Sums<3>& acc) {
+      "fracta::rotation_totals",
+      Kokkos::RangePolicy<ExecSpace>(0, particle_list ? nodes.particle_count : nodes.count),
+      KOKKOS_LAMBDA(const int k, Sums<3>& acc) {
+        const int i = particle_list ? particles(k) : k;
         if (!nodes.particle(i)) return;
         const double I = nodes.inertia(i), w = nodes.spin(i), M = nodes.moment(i);
         acc.v[0] += 0.5 * I * w * w;
@@ -66,8 +75,10 @@ inline LatticeTotals lattice_totals(const Nodes& nodes, const Bonds& bonds, doub
   if (bonds.count > 0) {
     Sums<3> b;
     Kokkos::parallel_reduce(
-        "fracta::bond_totals", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
-        KOKKOS_LAMBDA(const int k, Sums<3>& acc) {
+        "fracta::bond_totals",
+        Kokkos::RangePolicy<ExecSpace>(0, used_list ? bonds.used_count : bonds.count),
+        KOKKOS_LAMBDA(const int j, Sums<3>& acc) {
+          const int k = used_list ? used(j) : j;
           acc.v[1] += bonds.plastic_work(k);
           if (bonds.state(k) != kBondActive) return;
           acc.v[0] += stored_bond_energy(bonds.fn(k), bonds.fs(k), bonds.damage(k), bonds.kn(k),

@@ -100,7 +100,8 @@ struct FeForces {
   // Adaptive scenes: set conversion_pending() to 1 if an element meets its conversion criterion
   // after this update, so the conversion pass runs only when there is something to convert.
   ConversionCriterion criterion;
-  View<int> conversion_pending;  // empty: no check
+  View<int> conversion_pending;      // number of flagged elements; empty: no check
+  View<int*> conversion_candidates;  // active indices of the first flagged (any order)
 
   KOKKOS_INLINE_FUNCTION void operator()(const int i, double& dt_min) const {
     const int e = elements.active(i);
@@ -163,14 +164,17 @@ struct FeForces {
       rotate_stress(s, rot_c, rot_s);
       if (conversion_pending.data() != nullptr) {
         // ConversionCriterion on the values in hand, without its square root: the largest
-        // principal stress c + r reaches T' when T' - c <= 0 or r^2 >= (T' - c)^2. Slightly
-        // generous (1e-12): compact_converted re-checks exactly, a false alarm only costs a pass.
+        // principal stress c + r reaches T' when T' - c <= 0 or r^2 >= (T' - c)^2. Generous
+        // (r within 5e-7 of T' - c, or c within 1e-9 T' of T'), far beyond the round-off of
+        // either form, so every element the exact criterion takes is flagged: the conversion
+        // re-checks only the flagged ones exactly, and a false alarm costs one check.
         if (mat.conversion_strain > 0.0 && epeq >= mat.conversion_strain) convert = true;
         if (criterion.on_tension && mat.tensile_strength > 0.0) {
           const double centre = 0.5 * (s[0] + s[1]);
           const double r2 = 0.25 * (s[0] - s[1]) * (s[0] - s[1]) + s[3] * s[3];
-          const double d = mat.tensile_strength * (1.0 - 1e-9) - centre;
-          if (d <= 0.0 || r2 >= d * d * (1.0 - 1e-12)) convert = true;
+          const double limit = mat.tensile_strength * (1.0 - 1e-9);
+          const double d = limit - centre;
+          if (d <= 1e-9 * limit || r2 >= d * d * (1.0 - 1e-6)) convert = true;
         }
       }
       for (int k = 0; k < 4; ++k) elements.stress(q, k) = s[k];
@@ -282,7 +286,12 @@ struct FeForces {
     elements.strain_work(e) += strain_work;
     elements.viscous_work(e) += viscous;
     if (inverted) dt_min = -1.0;  // signals an inverted element to the host
-    if (convert && criterion.adaptive(e)) Kokkos::atomic_exchange(&conversion_pending(), 1);
+    if (convert && criterion.adaptive(e)) {
+      // Counts the flags; the first conversion_candidates.extent(0) keep their active index.
+      const int slot = Kokkos::atomic_fetch_add(&conversion_pending(), 1);
+      if (slot >= 0 && slot < static_cast<int>(conversion_candidates.extent(0)))
+        conversion_candidates(slot) = i;
+    }
   }
 
   static constexpr double kFullIntegrationDtFactor = 0.9;
@@ -306,25 +315,28 @@ struct GatherCornerForces {
 
 // Launches the element kernel and the node gather; returns the smallest element stable step (s,
 // before the safety factor), or a negative value if an element has inverted.
-// With conversion_pending given, the kernel also raises it when an element (of criterion's
-// adaptive set) reaches its conversion criterion.
+// With conversion_pending given, the kernel also counts in it the elements (of criterion's
+// adaptive set) that may have reached their conversion criterion (a superset of those that
+// have), and writes the active indices of the first ones into conversion_candidates (as many
+// as it holds; compact_candidates in conversion.hpp).
 inline double compute_fe_forces(const Nodes& nodes, const Elements& elements,
                                 const View<const MaterialLaw*>& materials, const FeParams& p,
                                 const ConversionCriterion& criterion = {},
-                                const View<int>& conversion_pending = {}) {
+                                const View<int>& conversion_pending = {},
+                                const View<int*>& conversion_candidates = {}) {
   double dt_min = 1e300;
   if (elements.active_count == 0) return dt_min;
   const auto policy = Kokkos::RangePolicy<ExecSpace>(0, elements.active_count);
   if (elements.qp_per_element == 1)
-    Kokkos::parallel_reduce(
-        "fracta::fe_forces", policy,
-        FeForces<1>{nodes, elements, materials, p, criterion, conversion_pending},
-        Kokkos::Min<double>(dt_min));
+    Kokkos::parallel_reduce("fracta::fe_forces", policy,
+                            FeForces<1>{nodes, elements, materials, p, criterion,
+                                        conversion_pending, conversion_candidates},
+                            Kokkos::Min<double>(dt_min));
   else
-    Kokkos::parallel_reduce(
-        "fracta::fe_forces_full", policy,
-        FeForces<4>{nodes, elements, materials, p, criterion, conversion_pending},
-        Kokkos::Min<double>(dt_min));
+    Kokkos::parallel_reduce("fracta::fe_forces_full", policy,
+                            FeForces<4>{nodes, elements, materials, p, criterion,
+                                        conversion_pending, conversion_candidates},
+                            Kokkos::Min<double>(dt_min));
   Kokkos::parallel_for("fracta::fe_gather", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
                        GatherCornerForces{nodes, elements});
   return dt_min;

@@ -37,6 +37,11 @@ struct Nodes {
   View<double*> spin;               // angular velocity (rad/s)
   View<double*> moment;             // moment from bonds and contacts (N m), rebuilt every step
   View<double*> contact_stiffness;  // lambda k1 of the node's material (N/m), paper Eq. 7
+  // The particles (particle(n) == 1) in increasing order, [0, particle_count): a node never
+  // stops being a particle, so the conversion only inserts (conversion.hpp, update_lists).
+  // Empty view when the scene has no lattice: kernels then sweep every node.
+  View<int*> particle_list;
+  int particle_count = 0;
   bool has_particles() const { return particle.extent(0) > 0; }
 };
 
@@ -76,6 +81,12 @@ struct Bonds {
   View<double* [2][3]> end_force;
   View<int*> node_end_offset, node_end;  // ends at node n: [offset(n), offset(n+1))
   int count = 0;
+  // The slots ever activated (state != kBondInactive: active or broken) in increasing order,
+  // [0, used_count): a slot is activated once and never returns to inactive, so the conversion
+  // only inserts (conversion.hpp, update_lists). The bond kernels sweep this list instead of
+  // every slot. Empty view when the model built no list: kernels then sweep every slot.
+  View<int*> used;
+  int used_count = 0;
 };
 
 // Who is joined to whom, for contact exclusion: node -> bond slots and node -> elements (CSR).

@@ -58,6 +58,92 @@ TEST(Conversion, CompactionEdgeCases) {
   }
 }
 
+// The conversion from the FE kernel's candidates (compact_candidates) gives the sweep's lists,
+// whatever the candidates' order, duplicates and false alarms, on the same edge cases.
+TEST(Conversion, CandidateCompactionMatchesTheSweep) {
+  for (int pattern = 0; pattern < 4; ++pattern) {
+    std::vector<int> expected_active, expected_cells;
+    for (int run = 0; run < 2; ++run) {
+      Simulation sim(adaptive_case(5, 4, 1e-3));
+      Model& m = sim.model();
+      std::vector<int> marked;
+      for (int e = 0; e < 20; ++e)
+        if (pattern == 1 ? e % 2 == 0 : pattern >= 2) marked.push_back(e);
+      mark(sim, marked);
+      if (pattern == 3)  // empty list: convert everything first
+        compact_converted(m.elements, m.element_adaptive, m.materials, false, m.new_cells,
+                          m.active_scratch);
+      int n = 0;
+      if (run == 0) {
+        n = compact_converted(m.elements, m.element_adaptive, m.materials, false, m.new_cells,
+                              m.active_scratch);
+      } else {
+        // Every position in reverse order, the marked ones twice, and an out-of-range one.
+        std::vector<int> cand;
+        for (int i = 19; i >= 0; --i) cand.push_back(i);
+        for (int e : marked) cand.push_back(e);
+        cand.push_back(25);
+        View<int*> candidates("candidates", cand.size());
+        auto h = Kokkos::create_mirror_view(candidates);
+        for (size_t k = 0; k < cand.size(); ++k) h(k) = cand[k];
+        Kokkos::deep_copy(candidates, h);
+        View<int*> keep("keep", cand.size()), sorted("sorted", cand.size());
+        n = compact_candidates(m.elements, m.element_adaptive, m.materials, false, candidates,
+                               static_cast<int>(cand.size()), keep, sorted, m.new_cells,
+                               m.active_scratch);
+      }
+      auto cells = Kokkos::create_mirror_view_and_copy(HostSpace(), m.new_cells);
+      const std::vector<int> new_cells(cells.data(), cells.data() + n);
+      if (run == 0) {
+        expected_active = active_host(m.elements);
+        expected_cells = new_cells;
+      } else {
+        EXPECT_EQ(active_host(m.elements), expected_active) << "pattern " << pattern;
+        EXPECT_EQ(new_cells, expected_cells) << "pattern " << pattern;
+      }
+    }
+  }
+}
+
+// The lists of used bond slots and of particles (state.hpp) equal their definitions after
+// conversions by insertion (small batches) and by rebuilding (a batch beyond the work space).
+TEST(Conversion, BondAndParticleListsFollowTheStates) {
+  Case c = adaptive_case(20, 12, 1e-3);
+  test::add_pressure(c, test::segment(0, 0, 0, 12e-3), {0.0, 1e-6, 1e-6}, {300e6, 300e6, 0.0});
+  Simulation sim(c);
+  const Model& m = sim.model();
+  auto check = [&](const char* when) {
+    auto state = Kokkos::create_mirror_view_and_copy(HostSpace(), m.bonds.state);
+    auto particle = Kokkos::create_mirror_view_and_copy(HostSpace(), m.nodes.particle);
+    auto used = Kokkos::create_mirror_view_and_copy(HostSpace(), m.bonds.used);
+    auto list = Kokkos::create_mirror_view_and_copy(HostSpace(), m.nodes.particle_list);
+    std::vector<int> want_used, want_particles;
+    for (int b = 0; b < m.bonds.count; ++b)
+      if (state(b) != kBondInactive) want_used.push_back(b);
+    for (int n = 0; n < m.nodes.count; ++n)
+      if (particle(n)) want_particles.push_back(n);
+    EXPECT_EQ(std::vector<int>(used.data(), used.data() + m.bonds.used_count), want_used) << when;
+    EXPECT_EQ(std::vector<int>(list.data(), list.data() + m.nodes.particle_count), want_particles)
+        << when;
+  };
+  check("at start");
+  for (int s = 0; s < 10; ++s) sim.step();
+  mark(sim, {3, 4, 23, 24, 100});
+  sim.step();
+  EXPECT_EQ(sim.conversions(), 5);
+  check("after a small batch");
+  mark(sim, {5, 44});  // next to converted cells: shared slots and nodes
+  sim.step();
+  check("after a second batch");
+  std::vector<int> many;
+  for (int e = 110; e < 240; ++e) many.push_back(e);
+  for (int e = 0; e < 100; e += 2) many.push_back(e);  // 3 of them converted already
+  mark(sim, many);
+  sim.step();
+  EXPECT_GT(6 * static_cast<int>(sim.conversions() - 7), ListWorkspace::kCapacity);
+  check("after a large batch");
+}
+
 // Conversion during a run changes neither the total mass nor the linear momentum (the node
 // velocities are untouched): 1e-12 relative, i.e. round-off of the sums.
 TEST(Conversion, ConservesMassAndMomentum) {
