@@ -218,6 +218,26 @@ inline int compact_converted(Elements& el, const View<const int*>& adaptive,
                            position);
 }
 
+// The distinct values candidates(c) with keep(c) = 1 (keep marks one occurrence of each), in
+// increasing order into sorted[0, n); returns n. Each kept value's position is the number of
+// kept values below it (O(k^2): k is small for both users).
+inline int rank_kept(const char* label, const View<int*>& candidates, const View<int*>& keep, int k,
+                     const View<int*>& sorted) {
+  int n = 0;
+  Kokkos::parallel_reduce(
+      label, Kokkos::RangePolicy<ExecSpace>(0, k),
+      KOKKOS_LAMBDA(const int c, int& count) {
+        if (!keep(c)) return;
+        const int v = candidates(c);
+        int rank = 0;
+        for (int j = 0; j < k; ++j) rank += keep(j) && candidates(j) < v ? 1 : 0;
+        sorted(rank) = v;
+        ++count;
+      },
+      n);
+  return n;
+}
+
 // The same conversion from the candidates the FE kernel flagged (compute_fe_forces): active
 // indices candidates[0, k), any order, duplicates allowed, a superset of the elements that meet
 // the criterion. They are deduplicated, checked exactly and ranked pairwise (O(k^2): k is
@@ -244,18 +264,7 @@ inline int compact_candidates(Elements& el, const View<const int*>& adaptive,
           if (candidates(j) == i) first = 0;
         keep(c) = first && criterion(i) ? 1 : 0;
       });
-  int converted = 0;
-  Kokkos::parallel_reduce(
-      "fracta::conversion_rank", Kokkos::RangePolicy<ExecSpace>(0, k),
-      KOKKOS_LAMBDA(const int c, int& n) {
-        if (!keep(c)) return;
-        const int i = candidates(c);
-        int rank = 0;
-        for (int j = 0; j < k; ++j) rank += keep(j) && candidates(j) < i ? 1 : 0;
-        sorted(rank) = i;
-        ++n;
-      },
-      converted);
+  const int converted = rank_kept("fracta::conversion_rank", candidates, keep, k, sorted);
   if (converted == 0) return 0;
   const auto active = el.active;
   const auto alive = el.alive;
@@ -501,18 +510,7 @@ inline int insert_sorted(const View<int*>& list, int count, const View<int*>& ca
           if (candidates(j) == v) first = 0;
         keep(i) = first;
       });
-  int added = 0;
-  Kokkos::parallel_reduce(
-      "fracta::list_rank", Kokkos::RangePolicy<ExecSpace>(0, k),
-      KOKKOS_LAMBDA(const int i, int& n) {
-        if (!keep(i)) return;
-        const int v = candidates(i);
-        int rank = 0;
-        for (int j = 0; j < k; ++j) rank += keep(j) && candidates(j) < v ? 1 : 0;
-        sorted(rank) = v;
-        ++n;
-      },
-      added);
+  const int added = rank_kept("fracta::list_rank", candidates, keep, k, sorted);
   if (added == 0) return count;
   const int total = count + added;
   Kokkos::parallel_for(
