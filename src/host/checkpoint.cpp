@@ -18,6 +18,7 @@
 #include "host/case.hpp"
 #include "host/simulation.hpp"
 #include "host/state_views.hpp"
+#include "host/text_lines.hpp"
 
 namespace fracta {
 
@@ -191,20 +192,6 @@ void read_view(hid_t loc, const std::string& name, const V& v) {
     }
   }
   Kokkos::deep_copy(v, h);
-}
-
-std::string join_lines(const std::vector<std::string>& lines) {
-  std::string s;
-  for (const std::string& l : lines) s += l + "\n";
-  return s;
-}
-
-std::vector<std::string> split_lines(const std::string& s) {
-  std::vector<std::string> lines;
-  std::istringstream in(s);
-  std::string l;
-  while (std::getline(in, l)) lines.push_back(l);
-  return lines;
 }
 
 // fsync of a file or directory; a failure means the data may not be on disk.

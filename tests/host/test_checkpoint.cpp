@@ -410,6 +410,25 @@ bool wait_for_file(const std::string& path, pid_t pid) {
   return false;
 }
 
+// Spawns fracta with `args` (output to `log`), waits until `file` exists (the run is stepping),
+// lets it run `delay_ms` more, kills it with SIGKILL and reaps it. Fails if it could not be
+// started or had already ended (not a kill mid-run).
+::testing::AssertionResult kill_run_after(const std::vector<std::string>& args,
+                                          const std::string& file, int delay_ms,
+                                          const std::string& log) {
+  const pid_t pid = spawn(args, log);
+  if (pid <= 0) return ::testing::AssertionFailure() << "cannot spawn fracta";
+  if (!wait_for_file(file, pid))
+    return ::testing::AssertionFailure() << file << " never appeared: " << slurp(log);
+  std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+  if (kill(pid, SIGKILL) != 0) return ::testing::AssertionFailure() << "kill failed";
+  int status = 0;
+  if (waitpid(pid, &status, 0) != pid) return ::testing::AssertionFailure() << "waitpid failed";
+  if (!WIFSIGNALED(status))
+    return ::testing::AssertionFailure() << "finished before the kill: " << slurp(log);
+  return ::testing::AssertionSuccess();
+}
+
 // A run long enough to be interrupted (1 ms simulated: ~12000 steps, ~30 s), checkpoints every
 // 2 us.
 const std::vector<std::string> kLongRun{"--set", "simulation.end_time=1e-3"};
@@ -484,14 +503,7 @@ TEST(Checkpoint, SigkillLeavesAReadableOutputWithEveryListedFrame) {
                                   "simulation.output_interval=1e-9",
                                   "simulation.history_interval=0",
                                   "output.checkpoint_interval=0"};
-    const pid_t pid = spawn(args, out + ".log");
-    ASSERT_GT(pid, 0);
-    ASSERT_TRUE(wait_for_file(out, pid)) << slurp(out + ".log");
-    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
-    ASSERT_EQ(kill(pid, SIGKILL), 0);
-    int status = 0;
-    ASSERT_EQ(waitpid(pid, &status, 0), pid);
-    ASSERT_TRUE(WIFSIGNALED(status)) << "finished before the kill: " << slurp(out + ".log");
+    ASSERT_TRUE(kill_run_after(args, out, delay_ms, out + ".log"));
 
     H5File f(out);
     ASSERT_GE(f.id, 0) << out << " does not open after SIGKILL at " << delay_ms << " ms";
@@ -530,16 +542,9 @@ TEST(Checkpoint, SigkillWhileCheckpointingLeavesAValidCheckpoint) {
   for (int delay_ms : {0, 15, 40, 80}) {
     const std::string out = dir + "/kill" + std::to_string(delay_ms) + ".h5";
     const std::string checkpoint = dir + "/kill" + std::to_string(delay_ms) + ".ckpt.h5";
-    const pid_t pid = spawn({"run", kScene, "-o", out, "--set", "simulation.end_time=1e-3",
-                             "output.checkpoint_interval=1e-12"},
-                            out + ".log");
-    ASSERT_GT(pid, 0);
-    ASSERT_TRUE(wait_for_file(checkpoint, pid)) << slurp(out + ".log");
-    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
-    ASSERT_EQ(kill(pid, SIGKILL), 0);
-    int status = 0;
-    ASSERT_EQ(waitpid(pid, &status, 0), pid);
-    ASSERT_TRUE(WIFSIGNALED(status)) << "finished before the kill: " << slurp(out + ".log");
+    ASSERT_TRUE(kill_run_after({"run", kScene, "-o", out, "--set", "simulation.end_time=1e-3",
+                                "output.checkpoint_interval=1e-12"},
+                               checkpoint, delay_ms, out + ".log"));
     double t = 0;
     {
       H5File c(checkpoint);

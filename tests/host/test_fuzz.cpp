@@ -22,6 +22,7 @@
 #include "host/memory.hpp"
 #include "host/mesh.hpp"
 #include "host/model.hpp"
+#include "host/text_lines.hpp"
 #include "test_util.hpp"
 
 namespace fracta {
@@ -61,20 +62,6 @@ std::vector<Seed> seed_cases() {
       }
   std::sort(seeds.begin(), seeds.end(), [](auto& a, auto& b) { return a.name < b.name; });
   return seeds;
-}
-
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) lines.push_back(line);
-  return lines;
-}
-
-std::string join_lines(const std::vector<std::string>& lines) {
-  std::string out;
-  for (const auto& l : lines) out += l + "\n";
-  return out;
 }
 
 // Values that break assumptions: zero, negative, overflow, not-a-number, huge and tiny numbers,
@@ -125,7 +112,7 @@ std::string deep_nesting(Rng& rng) {
 
 // One mutation of the text; the kinds a human or a broken generator would produce.
 std::string mutate_once(const std::string& text, Rng& rng) {
-  std::vector<std::string> lines = lines_of(text);
+  std::vector<std::string> lines = split_lines(text);
   if (lines.empty()) lines.push_back("");
   const size_t k = rng.below(lines.size());
   switch (rng.below(11)) {
