@@ -22,7 +22,7 @@ MaterialLaw material_law(const Material& m, Formulation f) {
   law.friction_angle = m.friction_angle;
   law.tensile_strength = m.tensile_strength;
   law.conversion_strain = m.conversion_strain;
-  law.p_wave_speed = law.wave_speed();
+  cache_derived(law);
   return law;
 }
 

@@ -7,6 +7,7 @@
 #include "kernels/compat.hpp"
 #include "kernels/conversion.hpp"
 #include "kernels/materials.hpp"
+#include "kernels/simd.hpp"
 #include "kernels/state.hpp"
 
 namespace fracta {
@@ -25,14 +26,17 @@ struct FeParams {
 // The first-order form s + (W s - s W) dt would not be orthogonal and would pump energy into a
 // spinning stressed body at O((w dt)^2) per step; cos/sin of w dt would cost a libm call.
 // cayley_rotation gives cos and sin of that rotation; rotate_stress applies it.
-KOKKOS_INLINE_FUNCTION void cayley_rotation(double w_dt, double& c, double& sn) {
-  const double t = 0.5 * w_dt, inv = 1.0 / (1.0 + t * t);
+// T (here and below): double, or one element per lane (simd.hpp).
+template <class T>
+KOKKOS_INLINE_FUNCTION void cayley_rotation(const T& w_dt, T& c, T& sn) {
+  const T t = 0.5 * w_dt, inv = 1.0 / (1.0 + t * t);
   c = (1.0 - t * t) * inv;
   sn = 2.0 * t * inv;
 }
 
-KOKKOS_INLINE_FUNCTION void rotate_stress(double s[4], double c, double sn) {
-  const double sxx = s[0], syy = s[1], sxy = s[3];
+template <class T>
+KOKKOS_INLINE_FUNCTION void rotate_stress(T s[4], const T& c, const T& sn) {
+  const T sxx = s[0], syy = s[1], sxy = s[3];
   s[0] = c * c * sxx + 2.0 * c * sn * sxy + sn * sn * syy;
   s[1] = sn * sn * sxx - 2.0 * c * sn * sxy + c * c * syy;
   s[3] = c * sn * (syy - sxx) + (c * c - sn * sn) * sxy;
@@ -45,20 +49,21 @@ KOKKOS_INLINE_FUNCTION void jaumann_rotate(double s[4], double w_dt) {
 }
 
 // Gradient operator of a Q4 at (xi, eta): dN/dx, dN/dy and det J.
-KOKKOS_INLINE_FUNCTION double q4_gradients(const double x[4], const double y[4], double xi,
-                                           double eta, double bx[4], double by[4]) {
+template <class T>
+KOKKOS_INLINE_FUNCTION T q4_gradients(const T x[4], const T y[4], double xi, double eta, T bx[4],
+                                      T by[4]) {
   const double dn_dxi[4] = {-0.25 * (1 - eta), 0.25 * (1 - eta), 0.25 * (1 + eta),
                             -0.25 * (1 + eta)};
   const double dn_deta[4] = {-0.25 * (1 - xi), -0.25 * (1 + xi), 0.25 * (1 + xi), 0.25 * (1 - xi)};
-  double j11 = 0, j12 = 0, j21 = 0, j22 = 0;
+  T j11 = splat<T>(0.0), j12 = j11, j21 = j11, j22 = j11;
   for (int a = 0; a < 4; ++a) {
     j11 += dn_dxi[a] * x[a];
     j12 += dn_dxi[a] * y[a];
     j21 += dn_deta[a] * x[a];
     j22 += dn_deta[a] * y[a];
   }
-  const double det = j11 * j22 - j12 * j21;
-  const double inv = det != 0.0 ? 1.0 / det : 0.0;
+  const T det = j11 * j22 - j12 * j21;
+  const T inv = det != 0.0 ? 1.0 / det : splat<T>(0.0);
   for (int a = 0; a < 4; ++a) {
     bx[a] = inv * (j22 * dn_dxi[a] - j12 * dn_deta[a]);
     by[a] = inv * (-j21 * dn_dxi[a] + j11 * dn_deta[a]);
@@ -69,13 +74,12 @@ KOKKOS_INLINE_FUNCTION double q4_gradients(const double x[4], const double y[4],
 // Gradients at quadrature point g; returns the point's weight (area, m^2).
 // QP = 1: the uniform gradients b_a = (1/A) int dN_a/dx dA of Flanagan & Belytschko (1981,
 // Eq. 14), exact element averages; QP = 4: 2x2 Gauss points.
-template <int QP>
-KOKKOS_INLINE_FUNCTION double qp_gradients(const double x[4], const double y[4], int g,
-                                           double bx[4], double by[4]) {
+template <int QP, class T>
+KOKKOS_INLINE_FUNCTION T qp_gradients(const T x[4], const T y[4], int g, T bx[4], T by[4]) {
   if constexpr (QP == 1) {
     (void)g;
-    const double A = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
-    const double inv2A = A != 0.0 ? 0.5 / A : 0.0;
+    const T A = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
+    const T inv2A = A != 0.0 ? 0.5 / A : splat<T>(0.0);
     for (int a = 0; a < 4; ++a) {
       bx[a] = inv2A * (y[(a + 1) % 4] - y[(a + 3) % 4]);
       by[a] = inv2A * (x[(a + 3) % 4] - x[(a + 1) % 4]);
@@ -91,11 +95,19 @@ KOKKOS_INLINE_FUNCTION double qp_gradients(const double x[4], const double y[4],
 
 // QP = 1: one-point integration with the uniform-strain gradients of Flanagan & Belytschko
 // (1981) (exact element averages), plus hourglass control. QP = 4: 2x2 Gauss, no hourglass.
+//
+// A work item is a batch of kLanes consecutive active elements (simd.hpp: 8 on CPUs, 1 on
+// GPUs). When they share a material the batch runs as one element of type LaneDouble, each
+// value holding the eight elements' values; otherwise (and for the tail of the range) element
+// by element as double. The element code is the same for both (element<T>). The material
+// update is the one part that branches per element: every lane takes the elastic trial, and
+// the lanes that may_leave_elastic marks (yielding, or near the conversion stresses) redo the
+// whole update_stress one at a time, since return mappings iterate.
 template <int QP>
 struct FeForces {
   Nodes nodes;
   Elements elements;
-  View<const MaterialLaw*> materials;
+  View<const MaterialLaw*> materials;  // from material_law (cache_derived done)
   FeParams p;
   // Adaptive scenes: set conversion_pending() to 1 if an element meets its conversion criterion
   // after this update, so the conversion pass runs only when there is something to convert.
@@ -103,64 +115,113 @@ struct FeForces {
   View<int> conversion_pending;      // number of flagged elements; empty: no check
   View<int*> conversion_candidates;  // active indices of the first flagged (any order)
 
-  KOKKOS_INLINE_FUNCTION void operator()(const int i, double& dt_min) const {
-    const int e = elements.active(i);
-    int n[4];
-    double x[4], y[4], vx[4], vy[4], xm[4], ym[4];
-    for (int a = 0; a < 4; ++a) {
-      n[a] = elements.nodes(e, a);
-      x[a] = nodes.x(n[a], 0);
-      y[a] = nodes.x(n[a], 1);
-      vx[a] = nodes.v(n[a], 0);
-      vy[a] = nodes.v(n[a], 1);
-      xm[a] = x[a] - 0.5 * p.dt * vx[a];
-      ym[a] = y[a] - 0.5 * p.dt * vy[a];
+  static int batches(int active_count) { return (active_count + kLanes - 1) / kLanes; }
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int batch, double& dt_min) const {
+    const int first = batch * kLanes;
+    if constexpr (kLanes > 1) {
+      if (first + kLanes <= elements.active_count) {
+        const int material = elements.material(elements.active(first));
+        bool uniform = true;
+        for (int l = 1; l < kLanes; ++l)
+          uniform = uniform && elements.material(elements.active(first + l)) == material;
+        if (uniform) {
+          element<LaneDouble>(first, dt_min);
+          return;
+        }
+      }
     }
-    const MaterialLaw& mat = materials(elements.material(e));
-    const double c = mat.p_wave_speed > 0.0 ? mat.p_wave_speed : mat.wave_speed();
-    double fx[4] = {0, 0, 0, 0}, fy[4] = {0, 0, 0, 0};
-    double plastic = 0.0, viscous = 0.0, strain_work = 0.0, area = 0.0, div_rate = 0.0;
-    bool inverted = false, convert = false;
+    const int end = min_(first + kLanes, elements.active_count);
+    for (int i = first; i < end; ++i) element<double>(i, dt_min);
+  }
+
+  // Active elements [first, first + L), L = LaneCount<T>, all of one material.
+  template <class T>
+  KOKKOS_INLINE_FUNCTION void element(const int first, double& dt_min) const {
+    constexpr int L = LaneCount<T>::value;
+    int e[L], node[4][L];
+    for (int l = 0; l < L; ++l) {
+      e[l] = elements.active(first + l);
+      for (int a = 0; a < 4; ++a) node[a][l] = elements.nodes(e[l], a);
+    }
+    const MaterialLaw& mat = materials(elements.material(e[0]));
+    const double c = mat.p_wave_speed;
+    T x[4], y[4], vx[4], vy[4], fx[4], fy[4];
+    for (int a = 0; a < 4; ++a) {
+      for (int l = 0; l < L; ++l) {
+        set_lane(x[a], l, nodes.x(node[a][l], 0));
+        set_lane(y[a], l, nodes.x(node[a][l], 1));
+        set_lane(vx[a], l, nodes.v(node[a][l], 0));
+        set_lane(vy[a], l, nodes.v(node[a][l], 1));
+      }
+      fx[a] = fy[a] = splat<T>(0.0);
+    }
+    T plastic = splat<T>(0.0), viscous = plastic, strain_work = plastic, area = plastic;
+    T div_rate = plastic, dt_element = splat<T>(1e300);
+    auto inverted = area != area, convert = inverted;  // false in every lane
 
     for (int g = 0; g < QP; ++g) {
       // Strain rate and spin at the mid-step configuration x(n+1/2) = x(n+1) - dt/2 v(n+1/2)
       // (second-order accurate, and what keeps the energy balance free of drift); forces at
       // the current configuration x(n+1).
-      double bx[4], by[4];
+      T xm[4], ym[4], bx[4], by[4];
+      for (int a = 0; a < 4; ++a) {
+        xm[a] = x[a] - 0.5 * p.dt * vx[a];
+        ym[a] = y[a] - 0.5 * p.dt * vy[a];
+      }
       qp_gradients<QP>(xm, ym, g, bx, by);
-      double lxx = 0, lxy = 0, lyx = 0, lyy = 0;  // velocity gradient L_ij = dv_i/dx_j
+      T lxx = splat<T>(0.0), lxy = lxx, lyx = lxx, lyy = lxx;  // L_ij = dv_i/dx_j
       for (int a = 0; a < 4; ++a) {
         lxx += vx[a] * bx[a];
         lxy += vx[a] * by[a];
         lyx += vy[a] * bx[a];
         lyy += vy[a] * by[a];
       }
-      const double weight = qp_gradients<QP>(x, y, g, bx, by);
-      if (!(weight > 0.0)) inverted = true;  // also catches NaN geometry
+      const T weight = qp_gradients<QP>(x, y, g, bx, by);
+      inverted = inverted || !(weight > 0.0);  // also catches NaN geometry
       area += weight;
-      const int q = e * QP + g;
-      double s[4] = {elements.stress(q, 0), elements.stress(q, 1), elements.stress(q, 2),
-                     elements.stress(q, 3)};
+      const T volume = weight * p.thickness;
+      int q[L];
+      T s[4], epeq, volume_old, viscosity_old;
+      for (int l = 0; l < L; ++l) {
+        q[l] = e[l] * QP + g;
+        for (int k = 0; k < 4; ++k) set_lane(s[k], l, elements.stress(q[l], k));
+        set_lane(epeq, l, elements.epeq(q[l]));
+        set_lane(volume_old, l, elements.qp_volume(q[l]));
+        set_lane(viscosity_old, l, elements.bulk_viscosity(q[l]));
+      }
       // The strain increment is measured at the mid-step configuration, so it is added in the
       // mid-step frame: rotate by half the step's spin, update, rotate by the other half.
       // Rotating by the whole spin first would add each increment in a frame turned by half a
-      // step, a circulatory coupling of the deviatoric modes that makes a spinning body unstable
-      // (energy growth ~ exp(omega * c dt / h * t), after ~60 rad at dt_safety 0.85).
-      double rot_c, rot_s;  // the half-step rotation, used twice
-      cayley_rotation(0.25 * (lxy - lyx) * p.dt, rot_c, rot_s);
+      // step, a circulatory coupling of the deviatoric modes that makes a spinning body
+      // unstable (energy growth ~ exp(omega * c dt / h * t), after ~60 rad at dt_safety 0.85).
+      T rot_c, rot_s;  // the half-step rotation, used twice
+      cayley_rotation<T>(0.25 * (lxy - lyx) * p.dt, rot_c, rot_s);
       rotate_stress(s, rot_c, rot_s);
-      const double deps[3] = {lxx * p.dt, lyy * p.dt, 0.5 * (lxy + lyx) * p.dt};
-      double epeq = elements.epeq(q);
-      const double volume = weight * p.thickness;
-      const double s_old[4] = {s[0], s[1], s[2], s[3]};
-      plastic += update_stress(mat, deps, s, epeq) * volume;
+      const T deps[3] = {lxx * p.dt, lyy * p.dt, 0.5 * (lxy + lyx) * p.dt};
+      const T s_old[4] = {s[0], s[1], s[2], s[3]};
+      elastic_increment(mat, deps, s);
+      const auto full_update = may_leave_elastic(mat, s, epeq);
+      if (any_lane(full_update)) {
+        for (int l = 0; l < L; ++l) {
+          if (!get_lane(full_update, l)) continue;
+          double sl[4] = {get_lane(s_old[0], l), get_lane(s_old[1], l), get_lane(s_old[2], l),
+                          get_lane(s_old[3], l)};
+          const double dl[3] = {get_lane(deps[0], l), get_lane(deps[1], l), get_lane(deps[2], l)};
+          double ep = get_lane(epeq, l);
+          const double work = update_stress(mat, dl, sl, ep) * get_lane(volume, l);
+          set_lane(plastic, l, get_lane(plastic, l) + work);
+          set_lane(epeq, l, ep);
+          for (int k = 0; k < 4; ++k) set_lane(s[k], l, sl[k]);
+        }
+      }
       // Stress work by the trapezoidal rule (as the nodal work of central differences):
       // dW = (s(n) + s(n+1))/2 : deps * V(n+1/2). In plane strain deps_zz = 0; in plane
       // stress s_zz = 0, so the in-plane terms are the whole product.
       strain_work += 0.5 *
                      ((s_old[0] + s[0]) * deps[0] + (s_old[1] + s[1]) * deps[1] +
                       2.0 * (s_old[3] + s[3]) * deps[2]) *
-                     0.5 * (elements.qp_volume(q) + volume);
+                     0.5 * (volume_old + volume);
       rotate_stress(s, rot_c, rot_s);
       if (conversion_pending.data() != nullptr) {
         // ConversionCriterion on the values in hand, without its square root: the largest
@@ -168,32 +229,34 @@ struct FeForces {
         // (r within 5e-7 of T' - c, or c within 1e-9 T' of T'), far beyond the round-off of
         // either form, so every element the exact criterion takes is flagged: the conversion
         // re-checks only the flagged ones exactly, and a false alarm costs one check.
-        if (mat.conversion_strain > 0.0 && epeq >= mat.conversion_strain) convert = true;
+        if (mat.conversion_strain > 0.0) convert = convert || epeq >= mat.conversion_strain;
         if (criterion.on_tension && mat.tensile_strength > 0.0) {
-          const double centre = 0.5 * (s[0] + s[1]);
-          const double r2 = 0.25 * (s[0] - s[1]) * (s[0] - s[1]) + s[3] * s[3];
+          const T centre = 0.5 * (s[0] + s[1]);
+          const T r2 = 0.25 * (s[0] - s[1]) * (s[0] - s[1]) + s[3] * s[3];
           const double limit = mat.tensile_strength * (1.0 - 1e-9);
-          const double d = limit - centre;
-          if (d <= 1e-9 * limit || r2 >= d * d * (1.0 - 1e-6)) convert = true;
+          const T d = limit - centre;
+          convert = convert || d <= 1e-9 * limit || r2 >= d * d * (1.0 - 1e-6);
         }
       }
-      for (int k = 0; k < 4; ++k) elements.stress(q, k) = s[k];
-      elements.epeq(q) = epeq;
-      elements.qp_volume(q) = volume;
 
       // Artificial bulk viscosity in compression (linear + quadratic, as LS-DYNA/Abaqus):
       // q = rho l (C2 l div^2 - C1 c div) for div < 0; it acts as a pressure on the forces only.
-      const double div = lxx + lyy;
-      double qv = 0.0;
-      if (div < 0.0 && weight > 0.0) {
-        const double l = sqrt_(weight * QP);
-        qv = mat.density * l * (p.bulk_quadratic * l * div * div - p.bulk_linear * c * div);
-      }
+      const T div = lxx + lyy;
+      const T len = sqrt_(weight * QP);
+      const T qv =
+          div < 0.0 && weight > 0.0
+              ? mat.density * len * (p.bulk_quadratic * len * div * div - p.bulk_linear * c * div)
+              : splat<T>(0.0);
       // Trapezoidal work of the viscous pressure (see the hourglass work below).
-      viscous += -0.5 * (elements.bulk_viscosity(q) + qv) * div * volume * p.dt;
-      elements.bulk_viscosity(q) = qv;
+      viscous += -0.5 * (viscosity_old + qv) * div * volume * p.dt;
+      for (int l = 0; l < L; ++l) {
+        for (int k = 0; k < 4; ++k) elements.stress(q[l], k) = get_lane(s[k], l);
+        elements.epeq(q[l]) = get_lane(epeq, l);
+        elements.qp_volume(q[l]) = get_lane(volume, l);
+        elements.bulk_viscosity(q[l]) = get_lane(qv, l);
+      }
       div_rate = div_rate < div ? div_rate : div;
-      const double sxx = s[0] - qv, syy = s[1] - qv, sxy = s[3];
+      const T sxx = s[0] - qv, syy = s[1] - qv, sxy = s[3];
       for (int a = 0; a < 4; ++a) {
         fx[a] -= volume * (sxx * bx[a] + sxy * by[a]);
         fy[a] -= volume * (sxy * bx[a] + syy * by[a]);
@@ -203,48 +266,58 @@ struct FeForces {
         // Flanagan-Belytschko hourglass control: gamma_a = 1/4 (h_a - (h.x_i) b_ia) is
         // orthogonal to every linear field, so it resists only the hourglass mode.
         const double h[4] = {1.0, -1.0, 1.0, -1.0};
-        double hx = 0, hy = 0;
+        T hx = splat<T>(0.0), hy = hx;
         for (int a = 0; a < 4; ++a) {
           hx += h[a] * x[a];
           hy += h[a] * y[a];
         }
-        double gamma[4];
-        double qdot_x = 0, qdot_y = 0;
+        T gamma[4];
+        T qdot_x = splat<T>(0.0), qdot_y = qdot_x;
         for (int a = 0; a < 4; ++a) {
           gamma[a] = 0.25 * (h[a] - hx * bx[a] - hy * by[a]);
           qdot_x += vx[a] * gamma[a];
           qdot_y += vy[a] * gamma[a];
         }
-        double b2 = 0.0;
+        T b2 = splat<T>(0.0);
         for (int a = 0; a < 4; ++a) b2 += bx[a] * bx[a] + by[a] * by[a];
-        const double sqrt_b2 = sqrt_(b2);
-        double gx, gy;  // generalized hourglass force
+        const T sqrt_b2 = sqrt_(b2);
+        T gx, gy;  // generalized hourglass force
         if (p.hourglass_stiffness) {
           // k = kappa (P-wave modulus) t A sum(b.b): an element-size-independent stiffness.
-          const double k =
-              p.hourglass_coefficient * mat.p_wave_modulus() * p.thickness * weight * b2;
-          double qx = elements.hourglass_disp(e, 0) + qdot_x * p.dt;
-          double qy = elements.hourglass_disp(e, 1) + qdot_y * p.dt;
-          elements.hourglass_disp(e, 0) = qx;
-          elements.hourglass_disp(e, 1) = qy;
+          const T k = p.hourglass_coefficient * mat.p_wave_modulus() * p.thickness * weight * b2;
+          T qx, qy;
+          for (int l = 0; l < L; ++l) {
+            set_lane(qx, l, elements.hourglass_disp(e[l], 0));
+            set_lane(qy, l, elements.hourglass_disp(e[l], 1));
+          }
+          qx += qdot_x * p.dt;
+          qy += qdot_y * p.dt;
+          for (int l = 0; l < L; ++l) {
+            elements.hourglass_disp(e[l], 0) = get_lane(qx, l);
+            elements.hourglass_disp(e[l], 1) = get_lane(qy, l);
+          }
           gx = k * qx;
           gy = k * qy;
         } else {
           // Viscous: damping coefficient kappa rho c t A sqrt(sum b.b) (kg/s).
-          const double cv =
-              p.hourglass_coefficient * mat.density * c * p.thickness * weight * sqrt_b2;
+          const T cv = p.hourglass_coefficient * mat.density * c * p.thickness * weight * sqrt_b2;
           gx = cv * qdot_x;
           gy = cv * qdot_y;
         }
         // Work of the hourglass forces by the trapezoidal rule dW = (g(n) + g(n+1))/2 . dq,
         // the rule under which central differences conserve energy exactly up to a bounded
         // O(dt^2) term (exact for the stiffness form's stored energy k q^2 / 2).
-        elements.hourglass_work(e) += 0.5 *
-                                      ((elements.hourglass_force(e, 0) + gx) * qdot_x +
-                                       (elements.hourglass_force(e, 1) + gy) * qdot_y) *
-                                      p.dt;
-        elements.hourglass_force(e, 0) = gx;
-        elements.hourglass_force(e, 1) = gy;
+        T gx_old, gy_old;
+        for (int l = 0; l < L; ++l) {
+          set_lane(gx_old, l, elements.hourglass_force(e[l], 0));
+          set_lane(gy_old, l, elements.hourglass_force(e[l], 1));
+        }
+        const T work = 0.5 * ((gx_old + gx) * qdot_x + (gy_old + gy) * qdot_y) * p.dt;
+        for (int l = 0; l < L; ++l) {
+          elements.hourglass_work(e[l]) += get_lane(work, l);
+          elements.hourglass_force(e[l], 0) = get_lane(gx, l);
+          elements.hourglass_force(e[l], 1) = get_lane(gy, l);
+        }
         for (int a = 0; a < 4; ++a) {
           fx[a] -= gx * gamma[a];
           fy[a] -= gy * gamma[a];
@@ -252,45 +325,47 @@ struct FeForces {
         // Stable step of the one-point element: omega_max^2 <= 4 c^2 sum(b.b) (FB 1981), i.e.
         // dt <= l / c with l = 1/sqrt(sum b.b) (h/sqrt(2) for a square of side h).
         // Without bulk viscosity (no compression) this is 1 / (c sqrt(sum b.b)).
-        const double qs = div_rate < 0.0
-                              ? p.bulk_quadratic * sqrt_(weight) * (-div_rate) + p.bulk_linear * c
-                              : 0.0;
-        const double dt_e = !(b2 > 0.0) ? 0.0
-                            : qs > 0.0  ? 1.0 / (sqrt_b2 * (qs + sqrt_(qs * qs + c * c)))
-                                        : 1.0 / (sqrt_b2 * c);
-        dt_min = dt_min < dt_e ? dt_min : dt_e;
+        const T qs = div_rate < 0.0
+                         ? p.bulk_quadratic * sqrt_(weight) * (-div_rate) + p.bulk_linear * c
+                         : splat<T>(0.0);
+        dt_element = !(b2 > 0.0) ? splat<T>(0.0)
+                     : qs > 0.0  ? 1.0 / (sqrt_b2 * (qs + sqrt_(qs * qs + c * c)))
+                                 : 1.0 / (sqrt_b2 * c);
       }
     }
     if constexpr (QP == 4) {
       // 2x2 Gauss: for a square the largest element eigenvalue of M^-1 K equals the one-point
       // bound 4 c^2 sum(b.b) (checked numerically for nu = 0 ... 0.49); the factor 0.9 covers
       // distorted elements, for which the full-integration stiffness can exceed it slightly.
-      const double A = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
-      double b2 = 0.0;
+      const T A = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
+      T b2 = splat<T>(0.0);
       for (int a = 0; a < 4; ++a) {
-        const double bxa = (y[(a + 1) % 4] - y[(a + 3) % 4]) / (2 * A);
-        const double bya = (x[(a + 3) % 4] - x[(a + 1) % 4]) / (2 * A);
+        const T bxa = (y[(a + 1) % 4] - y[(a + 3) % 4]) / (2.0 * A);
+        const T bya = (x[(a + 3) % 4] - x[(a + 1) % 4]) / (2.0 * A);
         b2 += bxa * bxa + bya * bya;
       }
-      const double l = A > 0.0 ? kFullIntegrationDtFactor / sqrt_(b2) : 0.0;
-      const double qs =
-          div_rate < 0.0 ? p.bulk_quadratic * sqrt_(area) * (-div_rate) + p.bulk_linear * c : 0.0;
-      const double dt_e = l / (qs + sqrt_(qs * qs + c * c));
+      const T len = A > 0.0 ? kFullIntegrationDtFactor / sqrt_(b2) : splat<T>(0.0);
+      const T qs = div_rate < 0.0 ? p.bulk_quadratic * sqrt_(area) * (-div_rate) + p.bulk_linear * c
+                                  : splat<T>(0.0);
+      dt_element = len / (qs + sqrt_(qs * qs + c * c));
+    }
+    for (int l = 0; l < L; ++l) {
+      for (int a = 0; a < 4; ++a) {
+        elements.corner_force(e[l], a, 0) = get_lane(fx[a], l);
+        elements.corner_force(e[l], a, 1) = get_lane(fy[a], l);
+      }
+      elements.plastic_work(e[l]) += get_lane(plastic, l);
+      elements.strain_work(e[l]) += get_lane(strain_work, l);
+      elements.viscous_work(e[l]) += get_lane(viscous, l);
+      const double dt_e = get_lane(dt_element, l);
       dt_min = dt_min < dt_e ? dt_min : dt_e;
-    }
-    for (int a = 0; a < 4; ++a) {
-      elements.corner_force(e, a, 0) = fx[a];
-      elements.corner_force(e, a, 1) = fy[a];
-    }
-    elements.plastic_work(e) += plastic;
-    elements.strain_work(e) += strain_work;
-    elements.viscous_work(e) += viscous;
-    if (inverted) dt_min = -1.0;  // signals an inverted element to the host
-    if (convert && criterion.adaptive(e)) {
-      // Counts the flags; the first conversion_candidates.extent(0) keep their active index.
-      const int slot = Kokkos::atomic_fetch_add(&conversion_pending(), 1);
-      if (slot >= 0 && slot < static_cast<int>(conversion_candidates.extent(0)))
-        conversion_candidates(slot) = i;
+      if (get_lane(inverted, l)) dt_min = -1.0;  // signals an inverted element to the host
+      if (get_lane(convert, l) && criterion.adaptive(e[l])) {
+        // Counts the flags; the first conversion_candidates.extent(0) keep their active index.
+        const int slot = Kokkos::atomic_fetch_add(&conversion_pending(), 1);
+        if (slot >= 0 && slot < static_cast<int>(conversion_candidates.extent(0)))
+          conversion_candidates(slot) = first + l;
+      }
     }
   }
 
@@ -326,7 +401,8 @@ inline double compute_fe_forces(const Nodes& nodes, const Elements& elements,
                                 const View<int*>& conversion_candidates = {}) {
   double dt_min = 1e300;
   if (elements.active_count == 0) return dt_min;
-  const auto policy = Kokkos::RangePolicy<ExecSpace>(0, elements.active_count);
+  const auto policy =
+      Kokkos::RangePolicy<ExecSpace>(0, FeForces<1>::batches(elements.active_count));
   if (elements.qp_per_element == 1)
     Kokkos::parallel_reduce("fracta::fe_forces", policy,
                             FeForces<1>{nodes, elements, materials, p, criterion,

@@ -7,6 +7,7 @@
 // whatever keeps it so.
 #pragma once
 #include "kernels/compat.hpp"
+#include "kernels/simd.hpp"
 
 namespace fracta {
 
@@ -27,7 +28,13 @@ struct MaterialLaw {
   double friction_angle = 0;    // mohr_coulomb, rad
   double tensile_strength = 0;  // Rankine cut-off, Pa (0 = no cut-off)
   double conversion_strain = 0;
-  double p_wave_speed = 0;  // m/s, wave_speed() cached by the model for the kernels (0: unset)
+  // Derived values cached by cache_derived() (the model does it for every law it hands to the
+  // kernels), so the element kernel needs no square root, sine or cosine to get them.
+  double p_wave_speed = 0;  // m/s, wave_speed() (0: unset)
+  int cone_cached = 0;      // 1: the three below hold the mohr_coulomb cone and cap
+  double cone_alpha = 0;    // drucker_prager_constants
+  double cone_k = 0;        // Pa
+  double tension_cap = -1;  // Pa, effective_tension_cap (negative: none)
 
   // P-wave modulus of the formulation: plane strain lambda + 2G, plane stress E / (1 - nu^2).
   KOKKOS_INLINE_FUNCTION double p_wave_modulus() const {
@@ -50,13 +57,14 @@ inline MaterialLaw make_material_law(int model, bool plane_strain, double densit
   return m;
 }
 
-// Elastic trial: s += C : deps for the formulation.
-KOKKOS_INLINE_FUNCTION void elastic_increment(const MaterialLaw& m, const double deps[3],
-                                              double s[4]) {
+// Elastic trial: s += C : deps for the formulation. T: double, or one element per lane
+// (simd.hpp).
+template <class T>
+KOKKOS_INLINE_FUNCTION void elastic_increment(const MaterialLaw& m, const T deps[3], T s[4]) {
   const double G = m.shear_modulus;
   if (m.plane_strain) {
     const double lam = m.lame_lambda;
-    const double tr = deps[0] + deps[1];
+    const T tr = deps[0] + deps[1];
     s[0] += lam * tr + 2.0 * G * deps[0];
     s[1] += lam * tr + 2.0 * G * deps[1];
     s[2] += lam * tr;
@@ -64,7 +72,7 @@ KOKKOS_INLINE_FUNCTION void elastic_increment(const MaterialLaw& m, const double
     const double c = m.youngs_modulus / (1.0 - m.poisson_ratio * m.poisson_ratio);
     s[0] += c * (deps[0] + m.poisson_ratio * deps[1]);
     s[1] += c * (deps[1] + m.poisson_ratio * deps[0]);
-    s[2] = 0.0;
+    s[2] = splat<T>(0.0);
   }
   s[3] += 2.0 * G * deps[2];
 }
@@ -201,6 +209,11 @@ KOKKOS_INLINE_FUNCTION double bilinear_j2_update(const MaterialLaw& m, const dou
 // under-predict the plane-strain strength by 4 % at phi = 30 deg and 7 % at 45 deg.
 KOKKOS_INLINE_FUNCTION void drucker_prager_constants(const MaterialLaw& m, double& alpha,
                                                      double& k) {
+  if (m.cone_cached) {
+    alpha = m.cone_alpha;
+    k = m.cone_k;
+    return;
+  }
   alpha = sin_(m.friction_angle) / 3.0;
   k = m.cohesion * cos_(m.friction_angle);
 }
@@ -438,6 +451,52 @@ KOKKOS_INLINE_FUNCTION double mohr_coulomb_update(const MaterialLaw& m, const do
 }
 
 }  // namespace detail
+
+// Fills the cached derived values of a law (host, once, after its parameters are set).
+inline void cache_derived(MaterialLaw& m) {
+  m.cone_cached = 0;
+  m.p_wave_speed = m.wave_speed();
+  double alpha = 0.0, k = 0.0;
+  detail::drucker_prager_constants(m, alpha, k);
+  m.cone_alpha = alpha;
+  m.cone_k = k;
+  m.tension_cap = detail::effective_tension_cap(m, alpha, k);
+  m.cone_cached = 1;
+}
+
+// Whether update_stress may return anything but the elastic trial s_trial = s + C : deps, from
+// the trial and epeq alone. It errs only towards true (each test has a relative margin of 1e-9
+// beyond its scalar counterpart, and a NaN gives true), so a kernel may take the trial for every
+// point where it is false and run update_stress only where it is true. T: double (gives bool)
+// or one point per lane (gives a lane mask, simd.hpp), so no branch on the data.
+//   bilinear_j2: trial von Mises stress q > R = yield + H epeq (3 J2 = q^2 in plane strain; in
+//     plane stress, with s_zz = 0, 3 J2 is the q2 of j2_plane_stress_return);
+//   mohr_coulomb, plane strain: trial outside the cone (sqrt J2 > k - alpha I1) or a principal
+//     stress above the cap; plane stress (an eps_zz iteration) and uncached laws: always true.
+template <class T>
+KOKKOS_INLINE_FUNCTION auto may_leave_elastic(const MaterialLaw& m, const T s_trial[4],
+                                              const T& epeq) {
+  constexpr double margin = 1.0 - 1e-9;
+  const T p = (s_trial[0] + s_trial[1] + s_trial[2]) / 3.0;
+  const T d0 = s_trial[0] - p, d1 = s_trial[1] - p, d2 = s_trial[2] - p;
+  const T j2 = 0.5 * (d0 * d0 + d1 * d1 + d2 * d2) + s_trial[3] * s_trial[3];
+  const auto always = j2 == j2 || !(j2 == j2);  // true in every lane
+  if (m.model == kBilinearJ2) {
+    const T R = m.yield_stress + m.plastic_modulus * epeq;
+    return R <= 0.0 || !(3.0 * j2 <= R * R * margin);
+  }
+  if (m.model == kMohrCoulomb) {
+    if (!m.cone_cached || !m.plane_strain) return always;
+    const T r = m.cone_k - m.cone_alpha * 3.0 * p;
+    const auto cone = r <= 0.0 || !(j2 <= r * r * margin);
+    const double cap = m.tension_cap;
+    if (!(cap >= 0.0)) return cone;
+    const T centre = 0.5 * (s_trial[0] + s_trial[1]), h = 0.5 * (s_trial[0] - s_trial[1]);
+    const T rad2 = h * h + s_trial[3] * s_trial[3], room = cap - centre;
+    return cone || room <= 0.0 || !(rad2 <= room * room * margin) || !(s_trial[2] <= cap * margin);
+  }
+  return !always;
+}
 
 // Updates the stress of one material point for the strain increment deps, accumulating the
 // equivalent plastic strain epeq = sqrt(2/3 dep_ij dep_ij) summed over increments (paper Eq. 13).

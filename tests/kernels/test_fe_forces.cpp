@@ -226,5 +226,125 @@ TEST(FeForces, StiffnessHourglassControlStoresModeEnergy) {
   EXPECT_LT(r.error / half.error, 5.0);
 }
 
+// The element kernel runs batches of kLanes elements of one material as one SIMD element
+// (simd.hpp) and everything else element by element. Both must give the same numbers: the same
+// scene is run once as is (batches) and once with its elements alternating between two copies
+// of the material (every batch mixed, so element by element). A non-uniform velocity field makes
+// some elements yield (or reach the cone and the tension cap) and leaves others elastic, and two
+// force evaluations give the second a rotated, non-zero starting stress. Tolerance: 1e-12 of
+// each field's largest value (the two paths may contract a*b+c into FMA differently).
+struct LanePathResult {
+  std::vector<double> stress, epeq, corner, work;
+  double dt = 0;
+  int flagged = 0;
+  int yielded = 0;
+};
+
+LanePathResult run_lane_path(MaterialModel model, Formulation f, int qp, bool mixed) {
+  Case c = test::rectangle_case(9, 7, 1e-3, 30e9, 0.2, 2600.0, f);
+  c.sim.integration = qp == 4 ? Integration::full : Integration::reduced;
+  c.sim.hourglass = HourglassForm::stiffness;
+  Material& mat = c.materials[0];
+  mat.model = model;
+  mat.yield_stress = 60e6;  // bilinear_j2
+  mat.plastic_modulus = 1e9;
+  mat.cohesion = 40e6;  // mohr_coulomb
+  mat.friction_angle = 0.5;
+  mat.tensile_strength = 20e6;
+  mat.conversion_strain = 1e-3;
+  c.bodies[0].method = BodyMethod::adaptive;  // the kernel's conversion flags are compared too
+  Model m = build_model(c);
+  if (mixed) {
+    View<MaterialLaw*> two("two_materials", 2);
+    auto h = Kokkos::create_mirror_view(two);
+    h(0) = h(1) = m.host_materials[0];
+    Kokkos::deep_copy(two, h);
+    m.materials = two;
+    auto em = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.material);
+    for (size_t e = 0; e < em.extent(0); ++e) em(e) = static_cast<int>(e % 2);
+    Kokkos::deep_copy(m.elements.material, em);
+  }
+  // v = A ((x/W)^2 (1 + y/H), -(y/H)^3 + x y / (W H)): strain increments from 0 (lower left)
+  // to about 4e-3 per step (upper right), with spin.
+  auto x = Kokkos::create_mirror_view_and_copy(HostSpace(), m.nodes.x);
+  auto v = Kokkos::create_mirror_view_and_copy(HostSpace(), m.nodes.v);
+  const double W = 9e-3, H = 7e-3, A = 100.0;
+  for (int n = 0; n < m.nodes.count; ++n) {
+    const double X = x(n, 0) / W, Y = x(n, 1) / H;
+    v(n, 0) = A * X * X * (1.0 + Y);
+    v(n, 1) = A * (-Y * Y * Y + X * Y);
+  }
+  Kokkos::deep_copy(m.nodes.v, v);
+  FeParams p = m.fe;
+  p.dt = 1e-7;
+  ConversionCriterion criterion{m.elements.active,
+                                m.element_adaptive,
+                                m.materials,
+                                m.elements.material,
+                                m.elements.epeq,
+                                m.elements.stress,
+                                m.elements.qp_per_element,
+                                true};
+  View<int> pending("pending");
+  View<int*> candidates("candidates", 1024);
+  LanePathResult r;
+  for (int pass = 0; pass < 2; ++pass)
+    r.dt = compute_fe_forces(m.nodes, m.elements, m.materials, p, criterion, pending, candidates);
+  auto hp = Kokkos::create_mirror_view_and_copy(HostSpace(), pending);
+  r.flagged = hp();
+  auto s = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.stress);
+  auto ep = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.epeq);
+  auto cf = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.corner_force);
+  auto pw = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.plastic_work);
+  auto sw = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.strain_work);
+  auto vw = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.viscous_work);
+  auto hw = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.hourglass_work);
+  for (size_t q = 0; q < s.extent(0); ++q) {
+    for (int k = 0; k < 4; ++k) r.stress.push_back(s(q, k));
+    r.epeq.push_back(ep(q));
+    if (ep(q) > 0.0) ++r.yielded;
+  }
+  for (size_t e = 0; e < cf.extent(0); ++e) {
+    for (int a = 0; a < 4; ++a)
+      for (int d = 0; d < 2; ++d) r.corner.push_back(cf(e, a, d));
+    for (double w : {pw(e), sw(e), vw(e), hw(e)}) r.work.push_back(w);
+  }
+  return r;
+}
+
+double max_relative_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  double scale = 0.0, diff = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    scale = std::max(scale, std::fabs(a[i]));
+    diff = std::max(diff, std::fabs(a[i] - b[i]));
+  }
+  return scale > 0.0 ? diff / scale : diff;
+}
+
+TEST(FeForces, SimdBatchesMatchElementByElement) {
+  for (MaterialModel model :
+       {MaterialModel::elastic, MaterialModel::bilinear_j2, MaterialModel::mohr_coulomb})
+    for (Formulation f : {Formulation::plane_strain, Formulation::plane_stress})
+      for (int qp : {1, 4}) {
+        SCOPED_TRACE(::testing::Message() << "model " << static_cast<int>(model) << " plane_strain "
+                                          << (f == Formulation::plane_strain) << " qp " << qp);
+        const LanePathResult batched = run_lane_path(model, f, qp, false);
+        const LanePathResult single = run_lane_path(model, f, qp, true);
+        ASSERT_EQ(batched.stress.size(), single.stress.size());
+        EXPECT_LT(max_relative_difference(batched.stress, single.stress), 1e-12);
+        EXPECT_LT(max_relative_difference(batched.epeq, single.epeq), 1e-12);
+        EXPECT_LT(max_relative_difference(batched.corner, single.corner), 1e-12);
+        EXPECT_LT(max_relative_difference(batched.work, single.work), 1e-12);
+        EXPECT_NEAR(batched.dt, single.dt, 1e-12 * single.dt);
+        EXPECT_EQ(batched.flagged, single.flagged);
+        EXPECT_EQ(batched.yielded, single.yielded);
+        if (model != MaterialModel::elastic) {
+          // Not vacuous: some points yield and some stay elastic.
+          EXPECT_GT(batched.yielded, 0);
+          EXPECT_LT(batched.yielded, static_cast<int>(batched.epeq.size()));
+        }
+      }
+}
+
 }  // namespace
 }  // namespace fracta
