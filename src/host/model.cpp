@@ -510,17 +510,17 @@ Model build_model(const Case& c) {
   active.resize(ne, -1);  // capacity of every element: compaction swaps it with a scratch list
   el.active = to_device_1d<int>("element_active", active);
   el.alive = to_device_1d<int>("element_alive", alive);
-  el.stress = View<double* [4]>("fracta::qp_stress", static_cast<size_t>(ne) * qp);
+  el.stress = decltype(el.stress)("fracta::qp_stress", static_cast<size_t>(ne) * qp);
   el.epeq = View<double*>("fracta::qp_epeq", static_cast<size_t>(ne) * qp);
   el.qp_volume = View<double*>("fracta::qp_volume", static_cast<size_t>(ne) * qp);
   el.bulk_viscosity = View<double*>("fracta::qp_bulk_viscosity", static_cast<size_t>(ne) * qp);
-  el.hourglass_disp = View<double* [2]>("fracta::element_hourglass_disp", ne);
-  el.hourglass_force = View<double* [2]>("fracta::element_hourglass_force", ne);
+  el.hourglass_disp = decltype(el.hourglass_disp)("fracta::element_hourglass_disp", ne);
+  el.hourglass_force = decltype(el.hourglass_force)("fracta::element_hourglass_force", ne);
   el.strain_work = View<double*>("fracta::element_strain_work", ne);
   el.plastic_work = View<double*>("fracta::element_plastic_work", ne);
   el.hourglass_work = View<double*>("fracta::element_hourglass_work", ne);
   el.viscous_work = View<double*>("fracta::element_viscous_work", ne);
-  el.corner_force = View<double* [4][2]>("fracta::element_corner_force", ne);
+  el.corner_force = decltype(el.corner_force)("fracta::element_corner_force", ne);
   {
     // node -> corners CSR, corners in increasing element order (a fixed summation order).
     std::vector<int> offset(nn + 1, 0), corner(4 * static_cast<size_t>(ne));

@@ -284,7 +284,8 @@ void Simulation::step() {
   ProfilingRegion region("fracta::step");
   {
     ProfilingRegion integrate("fracta::integrate");
-    external_work_ += kick_drift(m.nodes, dt_);
+    // With FE elements the force evaluation starts by setting f (compute_fe_forces).
+    external_work_ += kick_drift(m.nodes, dt_, m.elements.active_count == 0);
   }
   for (RigidBody& b : m.rigid) {
     project_rigid(b, m.nodes);

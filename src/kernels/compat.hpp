@@ -14,6 +14,11 @@ using HostSpace = Kokkos::HostSpace;
 
 template <class T>
 using View = Kokkos::View<T, MemSpace>;
+// Per-item vectors stored by component (LayoutLeft): component k of consecutive items is
+// contiguous, so the SIMD element kernel (fe_forces.hpp, simd.hpp) moves one component of
+// eight elements with one vector load or store.
+template <class T>
+using ColumnView = Kokkos::View<T, Kokkos::LayoutLeft, MemSpace>;
 
 KOKKOS_INLINE_FUNCTION double sqrt_(double a) {
 #if KOKKOS_VERSION >= 40000

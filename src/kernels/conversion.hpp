@@ -124,7 +124,7 @@ struct ConversionCriterion {
   View<const MaterialLaw*> materials;
   View<int*> material;
   View<double*> epeq;
-  View<double* [4]> stress;
+  ColumnView<double* [4]> stress;
   int qp = 1;
   bool on_tension = false;
   KOKKOS_INLINE_FUNCTION int operator()(const int i) const {

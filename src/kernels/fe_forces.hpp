@@ -144,16 +144,18 @@ struct FeForces {
       e[l] = elements.active(first + l);
       for (int a = 0; a < 4; ++a) node[a][l] = elements.nodes(e[l], a);
     }
+    const bool consecutive = e[L - 1] - e[0] == L - 1;  // active() increases
     const MaterialLaw& mat = materials(elements.material(e[0]));
     const double c = mat.p_wave_speed;
     T x[4], y[4], vx[4], vy[4], fx[4], fy[4];
+    // Coordinate d of node n at &x(0, d) + n * stride_0 (2 in LayoutRight, the CPU default).
+    const int x_stride = static_cast<int>(nodes.x.stride_0());
+    const int v_stride = static_cast<int>(nodes.v.stride_0());
     for (int a = 0; a < 4; ++a) {
-      for (int l = 0; l < L; ++l) {
-        set_lane(x[a], l, nodes.x(node[a][l], 0));
-        set_lane(y[a], l, nodes.x(node[a][l], 1));
-        set_lane(vx[a], l, nodes.v(node[a][l], 0));
-        set_lane(vy[a], l, nodes.v(node[a][l], 1));
-      }
+      x[a] = gather_lanes<T>(&nodes.x(0, 0), node[a], x_stride);
+      y[a] = gather_lanes<T>(&nodes.x(0, 1), node[a], x_stride);
+      vx[a] = gather_lanes<T>(&nodes.v(0, 0), node[a], v_stride);
+      vy[a] = gather_lanes<T>(&nodes.v(0, 1), node[a], v_stride);
       fx[a] = fy[a] = splat<T>(0.0);
     }
     T plastic = splat<T>(0.0), viscous = plastic, strain_work = plastic, area = plastic;
@@ -183,13 +185,12 @@ struct FeForces {
       const T volume = weight * p.thickness;
       int q[L];
       T s[4], epeq, volume_old, viscosity_old;
-      for (int l = 0; l < L; ++l) {
-        q[l] = e[l] * QP + g;
-        for (int k = 0; k < 4; ++k) set_lane(s[k], l, elements.stress(q[l], k));
-        set_lane(epeq, l, elements.epeq(q[l]));
-        set_lane(volume_old, l, elements.qp_volume(q[l]));
-        set_lane(viscosity_old, l, elements.bulk_viscosity(q[l]));
-      }
+      for (int l = 0; l < L; ++l) q[l] = e[l] * QP + g;
+      const bool q_consecutive = consecutive && QP == 1;
+      for (int k = 0; k < 4; ++k) s[k] = load_lanes<T>(&elements.stress(0, k), q, q_consecutive);
+      epeq = load_lanes<T>(elements.epeq.data(), q, q_consecutive);
+      volume_old = load_lanes<T>(elements.qp_volume.data(), q, q_consecutive);
+      viscosity_old = load_lanes<T>(elements.bulk_viscosity.data(), q, q_consecutive);
       // The strain increment is measured at the mid-step configuration, so it is added in the
       // mid-step frame: rotate by half the step's spin, update, rotate by the other half.
       // Rotating by the whole spin first would add each increment in a frame turned by half a
@@ -249,12 +250,10 @@ struct FeForces {
               : splat<T>(0.0);
       // Trapezoidal work of the viscous pressure (see the hourglass work below).
       viscous += -0.5 * (viscosity_old + qv) * div * volume * p.dt;
-      for (int l = 0; l < L; ++l) {
-        for (int k = 0; k < 4; ++k) elements.stress(q[l], k) = get_lane(s[k], l);
-        elements.epeq(q[l]) = get_lane(epeq, l);
-        elements.qp_volume(q[l]) = get_lane(volume, l);
-        elements.bulk_viscosity(q[l]) = get_lane(qv, l);
-      }
+      for (int k = 0; k < 4; ++k) store_lanes(s[k], &elements.stress(0, k), q, q_consecutive);
+      store_lanes(epeq, elements.epeq.data(), q, q_consecutive);
+      store_lanes(volume, elements.qp_volume.data(), q, q_consecutive);
+      store_lanes(qv, elements.bulk_viscosity.data(), q, q_consecutive);
       div_rate = div_rate < div ? div_rate : div;
       const T sxx = s[0] - qv, syy = s[1] - qv, sxy = s[3];
       for (int a = 0; a < 4; ++a) {
@@ -285,17 +284,12 @@ struct FeForces {
         if (p.hourglass_stiffness) {
           // k = kappa (P-wave modulus) t A sum(b.b): an element-size-independent stiffness.
           const T k = p.hourglass_coefficient * mat.p_wave_modulus() * p.thickness * weight * b2;
-          T qx, qy;
-          for (int l = 0; l < L; ++l) {
-            set_lane(qx, l, elements.hourglass_disp(e[l], 0));
-            set_lane(qy, l, elements.hourglass_disp(e[l], 1));
-          }
-          qx += qdot_x * p.dt;
-          qy += qdot_y * p.dt;
-          for (int l = 0; l < L; ++l) {
-            elements.hourglass_disp(e[l], 0) = get_lane(qx, l);
-            elements.hourglass_disp(e[l], 1) = get_lane(qy, l);
-          }
+          double* qx_column = &elements.hourglass_disp(0, 0);
+          double* qy_column = &elements.hourglass_disp(0, 1);
+          const T qx = load_lanes<T>(qx_column, e, consecutive) + qdot_x * p.dt;
+          const T qy = load_lanes<T>(qy_column, e, consecutive) + qdot_y * p.dt;
+          store_lanes(qx, qx_column, e, consecutive);
+          store_lanes(qy, qy_column, e, consecutive);
           gx = k * qx;
           gy = k * qy;
         } else {
@@ -307,17 +301,15 @@ struct FeForces {
         // Work of the hourglass forces by the trapezoidal rule dW = (g(n) + g(n+1))/2 . dq,
         // the rule under which central differences conserve energy exactly up to a bounded
         // O(dt^2) term (exact for the stiffness form's stored energy k q^2 / 2).
-        T gx_old, gy_old;
-        for (int l = 0; l < L; ++l) {
-          set_lane(gx_old, l, elements.hourglass_force(e[l], 0));
-          set_lane(gy_old, l, elements.hourglass_force(e[l], 1));
-        }
+        double* gx_column = &elements.hourglass_force(0, 0);
+        double* gy_column = &elements.hourglass_force(0, 1);
+        const T gx_old = load_lanes<T>(gx_column, e, consecutive);
+        const T gy_old = load_lanes<T>(gy_column, e, consecutive);
         const T work = 0.5 * ((gx_old + gx) * qdot_x + (gy_old + gy) * qdot_y) * p.dt;
-        for (int l = 0; l < L; ++l) {
-          elements.hourglass_work(e[l]) += get_lane(work, l);
-          elements.hourglass_force(e[l], 0) = get_lane(gx, l);
-          elements.hourglass_force(e[l], 1) = get_lane(gy, l);
-        }
+        store_lanes(load_lanes<T>(elements.hourglass_work.data(), e, consecutive) + work,
+                    elements.hourglass_work.data(), e, consecutive);
+        store_lanes(gx, gx_column, e, consecutive);
+        store_lanes(gy, gy_column, e, consecutive);
         for (int a = 0; a < 4; ++a) {
           fx[a] -= gx * gamma[a];
           fy[a] -= gy * gamma[a];
@@ -349,14 +341,17 @@ struct FeForces {
                                   : splat<T>(0.0);
       dt_element = len / (qs + sqrt_(qs * qs + c * c));
     }
+    store_lanes(load_lanes<T>(elements.plastic_work.data(), e, consecutive) + plastic,
+                elements.plastic_work.data(), e, consecutive);
+    store_lanes(load_lanes<T>(elements.strain_work.data(), e, consecutive) + strain_work,
+                elements.strain_work.data(), e, consecutive);
+    store_lanes(load_lanes<T>(elements.viscous_work.data(), e, consecutive) + viscous,
+                elements.viscous_work.data(), e, consecutive);
+    for (int a = 0; a < 4; ++a) {
+      store_lanes(fx[a], &elements.corner_force(0, a, 0), e, consecutive);
+      store_lanes(fy[a], &elements.corner_force(0, a, 1), e, consecutive);
+    }
     for (int l = 0; l < L; ++l) {
-      for (int a = 0; a < 4; ++a) {
-        elements.corner_force(e[l], a, 0) = get_lane(fx[a], l);
-        elements.corner_force(e[l], a, 1) = get_lane(fy[a], l);
-      }
-      elements.plastic_work(e[l]) += get_lane(plastic, l);
-      elements.strain_work(e[l]) += get_lane(strain_work, l);
-      elements.viscous_work(e[l]) += get_lane(viscous, l);
       const double dt_e = get_lane(dt_element, l);
       dt_min = dt_min < dt_e ? dt_min : dt_e;
       if (get_lane(inverted, l)) dt_min = -1.0;  // signals an inverted element to the host
@@ -372,7 +367,8 @@ struct FeForces {
   static constexpr double kFullIntegrationDtFactor = 0.9;
 };
 
-// f(n) += the corner forces of the elements around node n (Elements::corner_force).
+// f(n) = the corner forces of the elements around node n (Elements::corner_force): the first
+// force of a step, so the first half kick need not zero f (kick_drift's zero_force).
 struct GatherCornerForces {
   Nodes nodes;
   Elements elements;
@@ -383,16 +379,16 @@ struct GatherCornerForces {
       fx += elements.corner_force(corner / 4, corner % 4, 0);
       fy += elements.corner_force(corner / 4, corner % 4, 1);
     }
-    nodes.f(n, 0) += fx;
-    nodes.f(n, 1) += fy;
+    nodes.f(n, 0) = fx;
+    nodes.f(n, 1) = fy;
   }
 };
 
-// Launches the element kernel and the node gather; returns the smallest element stable step (s,
-// before the safety factor), or a negative value if an element has inverted.
-// With conversion_pending given, the kernel also counts in it the elements (of criterion's
-// adaptive set) that may have reached their conversion criterion (a superset of those that
-// have), and writes the active indices of the first ones into conversion_candidates (as many
+// Launches the element kernel and the node gather (which sets nodes.f); returns the smallest
+// element stable step (s, before the safety factor), or a negative value if an element has
+// inverted. With conversion_pending given, the kernel also counts in it the elements (of
+// criterion's adaptive set) that may have reached their conversion criterion (a superset of those
+// that have), and writes the active indices of the first ones into conversion_candidates (as many
 // as it holds; compact_candidates in conversion.hpp).
 inline double compute_fe_forces(const Nodes& nodes, const Elements& elements,
                                 const View<const MaterialLaw*>& materials, const FeParams& p,

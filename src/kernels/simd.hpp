@@ -43,6 +43,35 @@ struct LaneCount {
   static constexpr int value = 1;
 };
 
+// Lane l of v from column[index[l]] (a per-item array: a 1D view's data, or one component's
+// column of a LayoutLeft view), and back. With consecutive (index[l] = index[0] + l) the lanes
+// move as one vector load or store.
+template <class T, int L>
+KOKKOS_INLINE_FUNCTION T load_lanes(const double* column, const int (&index)[L], bool consecutive);
+template <class T, int L>
+KOKKOS_INLINE_FUNCTION void store_lanes(const T& v, double* column, const int (&index)[L],
+                                        bool consecutive);
+
+// Lane l of v from base[index[l] * stride] (e.g. one coordinate of a LayoutRight node array).
+template <class T, int L>
+KOKKOS_INLINE_FUNCTION T gather_lanes(const double* base, const int (&index)[L], int stride);
+template <>
+KOKKOS_INLINE_FUNCTION double gather_lanes<double, 1>(const double* base, const int (&index)[1],
+                                                      int stride) {
+  return base[index[0] * stride];
+}
+
+template <>
+KOKKOS_INLINE_FUNCTION double load_lanes<double, 1>(const double* column, const int (&index)[1],
+                                                    bool) {
+  return column[index[0]];
+}
+template <>
+KOKKOS_INLINE_FUNCTION void store_lanes<double, 1>(const double& v, double* column,
+                                                   const int (&index)[1], bool) {
+  column[index[0]] = v;
+}
+
 #ifdef FRACTA_HOST_SIMD
 typedef double Double8 __attribute__((vector_size(64)));
 typedef long Mask8 __attribute__((vector_size(64)));  // a comparison's result: 0 or -1 per lane
@@ -66,6 +95,42 @@ inline bool any_lane(const Mask8& m) {
   for (int l = 0; l < 8; ++l) r |= m[l];
   return r != 0;
 }
+template <>
+inline Double8 load_lanes<Double8, 8>(const double* column, const int (&index)[8],
+                                      bool consecutive) {
+  Double8 v;
+  if (consecutive) {
+    __builtin_memcpy(&v, column + index[0], sizeof v);
+  } else {
+    for (int l = 0; l < 8; ++l) v[l] = column[index[l]];
+  }
+  return v;
+}
+template <>
+inline void store_lanes<Double8, 8>(const Double8& v, double* column, const int (&index)[8],
+                                    bool consecutive) {
+  if (consecutive) {
+    __builtin_memcpy(column + index[0], &v, sizeof v);
+  } else {
+    for (int l = 0; l < 8; ++l) column[index[l]] = v[l];
+  }
+}
+
+template <>
+inline Double8 gather_lanes<Double8, 8>(const double* base, const int (&index)[8], int stride) {
+#if defined(__AVX512F__)
+  const __m256i offsets = _mm256_mullo_epi32(
+      _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index)), _mm256_set1_epi32(stride));
+  // Masked form, all lanes: see sqrt_ below.
+  return _mm512_mask_i32gather_pd(_mm512_setzero_pd(), static_cast<__mmask8>(0xFF), offsets, base,
+                                  8);
+#else
+  Double8 v;
+  for (int l = 0; l < 8; ++l) v[l] = base[index[l] * stride];
+  return v;
+#endif
+}
+
 inline Double8 sqrt_(Double8 a) {
 #if defined(__AVX512F__)
   // The masked form with every lane set: _mm512_sqrt_pd's undefined pass-through operand

@@ -128,22 +128,22 @@ struct Elements {
   int active_count = 0;
   int qp_per_element = 1;  // 1 (reduced + hourglass control) or 4 (2x2 Gauss)
   // Per quadrature point.
-  View<double* [4]> stress;      // Cauchy stress (Pa): xx, yy, zz, xy
-  View<double*> epeq;            // equivalent plastic strain (paper Eq. 13)
-  View<double*> qp_volume;       // current volume (m^3) the point represents
-  View<double*> bulk_viscosity;  // last artificial viscous pressure q (Pa)
+  ColumnView<double* [4]> stress;  // Cauchy stress (Pa): xx, yy, zz, xy
+  View<double*> epeq;              // equivalent plastic strain (paper Eq. 13)
+  View<double*> qp_volume;         // current volume (m^3) the point represents
+  View<double*> bulk_viscosity;    // last artificial viscous pressure q (Pa)
   // Per element.
-  View<double* [2]> hourglass_disp;   // stiffness-form hourglass generalized displacement (m)
-  View<double* [2]> hourglass_force;  // last generalized hourglass force (N)
-  View<double*> strain_work;          // cumulative stress work (J): internal + plastic
-  View<double*> plastic_work;         // cumulative (J)
-  View<double*> hourglass_work;       // cumulative (J)
-  View<double*> viscous_work;         // cumulative bulk-viscosity work (J)
+  ColumnView<double* [2]> hourglass_disp;   // stiffness-form hourglass generalized displacement (m)
+  ColumnView<double* [2]> hourglass_force;  // last generalized hourglass force (N)
+  View<double*> strain_work;                // cumulative stress work (J): internal + plastic
+  View<double*> plastic_work;               // cumulative (J)
+  View<double*> hourglass_work;             // cumulative (J)
+  View<double*> viscous_work;               // cumulative bulk-viscosity work (J)
   // Nodal forces without atomics: each element writes its four corner forces (N), and a node
   // gathers the corners that touch it through the CSR list node -> (4 e + corner) of the mesh.
   // A converted element's corners are zeroed once, so the gather needs no liveness test. The
   // fixed gather order also makes the FE forces independent of the thread count.
-  View<double* [4][2]> corner_force;
+  ColumnView<double* [4][2]> corner_force;
   View<int*> node_corner_offset, node_corner;  // corners of node n: [offset(n), offset(n+1))
 };
 

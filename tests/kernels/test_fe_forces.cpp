@@ -227,12 +227,14 @@ TEST(FeForces, StiffnessHourglassControlStoresModeEnergy) {
 }
 
 // The element kernel runs batches of kLanes elements of one material as one SIMD element
-// (simd.hpp) and everything else element by element. Both must give the same numbers: the same
+// (simd.hpp; vector loads and stores when the batch's elements are consecutive, lane by lane
+// otherwise) and everything else element by element. Both must give the same numbers: the same
 // scene is run once as is (batches) and once with its elements alternating between two copies
 // of the material (every batch mixed, so element by element). A non-uniform velocity field makes
 // some elements yield (or reach the cone and the tension cap) and leaves others elastic, and two
-// force evaluations give the second a rotated, non-zero starting stress. Tolerance: 1e-12 of
-// each field's largest value (the two paths may contract a*b+c into FMA differently).
+// force evaluations give the second a rotated, non-zero starting stress. Run with every element
+// active and with every fifth one removed from the active list (scattered batches). Tolerance:
+// 1e-12 of each field's largest value (the two paths may contract a*b+c into FMA differently).
 struct LanePathResult {
   std::vector<double> stress, epeq, corner, work;
   double dt = 0;
@@ -240,7 +242,7 @@ struct LanePathResult {
   int yielded = 0;
 };
 
-LanePathResult run_lane_path(MaterialModel model, Formulation f, int qp, bool mixed) {
+LanePathResult run_lane_path(MaterialModel model, Formulation f, int qp, bool mixed, bool holes) {
   Case c = test::rectangle_case(9, 7, 1e-3, 30e9, 0.2, 2600.0, f);
   c.sim.integration = qp == 4 ? Integration::full : Integration::reduced;
   c.sim.hourglass = HourglassForm::stiffness;
@@ -263,6 +265,14 @@ LanePathResult run_lane_path(MaterialModel model, Formulation f, int qp, bool mi
     auto em = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.material);
     for (size_t e = 0; e < em.extent(0); ++e) em(e) = static_cast<int>(e % 2);
     Kokkos::deep_copy(m.elements.material, em);
+  }
+  if (holes) {  // every fifth element inactive (as if converted): batches of scattered elements
+    auto active = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.active);
+    int n = 0;
+    for (int e = 0; e < m.elements.active_count; ++e)
+      if (e % 5 != 2) active(n++) = e;
+    m.elements.active_count = n;
+    Kokkos::deep_copy(m.elements.active, active);
   }
   // v = A ((x/W)^2 (1 + y/H), -(y/H)^3 + x y / (W H)): strain increments from 0 (lower left)
   // to about 4e-3 per step (upper right), with spin.
@@ -328,20 +338,23 @@ TEST(FeForces, SimdBatchesMatchElementByElement) {
       for (int qp : {1, 4}) {
         SCOPED_TRACE(::testing::Message() << "model " << static_cast<int>(model) << " plane_strain "
                                           << (f == Formulation::plane_strain) << " qp " << qp);
-        const LanePathResult batched = run_lane_path(model, f, qp, false);
-        const LanePathResult single = run_lane_path(model, f, qp, true);
-        ASSERT_EQ(batched.stress.size(), single.stress.size());
-        EXPECT_LT(max_relative_difference(batched.stress, single.stress), 1e-12);
-        EXPECT_LT(max_relative_difference(batched.epeq, single.epeq), 1e-12);
-        EXPECT_LT(max_relative_difference(batched.corner, single.corner), 1e-12);
-        EXPECT_LT(max_relative_difference(batched.work, single.work), 1e-12);
-        EXPECT_NEAR(batched.dt, single.dt, 1e-12 * single.dt);
-        EXPECT_EQ(batched.flagged, single.flagged);
-        EXPECT_EQ(batched.yielded, single.yielded);
-        if (model != MaterialModel::elastic) {
-          // Not vacuous: some points yield and some stay elastic.
-          EXPECT_GT(batched.yielded, 0);
-          EXPECT_LT(batched.yielded, static_cast<int>(batched.epeq.size()));
+        for (bool holes : {false, true}) {
+          SCOPED_TRACE(holes ? "with inactive elements" : "all active");
+          const LanePathResult batched = run_lane_path(model, f, qp, false, holes);
+          const LanePathResult single = run_lane_path(model, f, qp, true, holes);
+          ASSERT_EQ(batched.stress.size(), single.stress.size());
+          EXPECT_LT(max_relative_difference(batched.stress, single.stress), 1e-12);
+          EXPECT_LT(max_relative_difference(batched.epeq, single.epeq), 1e-12);
+          EXPECT_LT(max_relative_difference(batched.corner, single.corner), 1e-12);
+          EXPECT_LT(max_relative_difference(batched.work, single.work), 1e-12);
+          EXPECT_NEAR(batched.dt, single.dt, 1e-12 * single.dt);
+          EXPECT_EQ(batched.flagged, single.flagged);
+          EXPECT_EQ(batched.yielded, single.yielded);
+          if (model != MaterialModel::elastic) {
+            // Not vacuous: some points yield and some stay elastic.
+            EXPECT_GT(batched.yielded, 0);
+            EXPECT_LT(batched.yielded, static_cast<int>(batched.epeq.size()));
+          }
         }
       }
 }
