@@ -53,7 +53,7 @@ double peak_rss_mb() {
 
 // Default timed steps per level: small at high levels (level 8 has 1.2e6 nodes).
 long default_steps(int level) {
-  return level <= 1 ? 200 : level == 2 ? 100 : level == 4 ? 30 : 10;
+  return level <= 1 ? 200 : level == 2 ? 100 : 30;
 }
 
 struct Options {

@@ -145,7 +145,12 @@ struct BondForces {
     const double fy_n = law.yield_stress * area;
     const double fy_s = law.yield_stress * area / 1.7320508075688772;  // von Mises shear yield
     const double k_hard = law.hardening * area / L0;
-    double up = bonds.plastic_n(b), us_p = bonds.plastic_s(b), alpha = bonds.hardening(b);
+    // Elastic springs (yield_stress 0) never change their plastic state (which a conversion may
+    // have set: the cell's strain beyond its elastic part): read what the forces need, write
+    // nothing back (a sixth of the bytes a bond moves per step).
+    const bool plastic_law = law.yield_stress > 0.0;
+    double up = bonds.plastic_n(b), us_p = bonds.plastic_s(b);
+    double alpha = plastic_law ? bonds.hardening(b) : 0.0;
     // fn, fs: the undamaged spring forces; a softening bond applies (1 - D) of them.
     const bool cohesive = law.fracture_energy > 0.0;
     const double damage_old = cohesive ? bonds.damage(b) : 0.0;
@@ -280,11 +285,13 @@ struct BondForces {
     }
     bonds.fn(b) = fn;
     bonds.fs(b) = fs;
-    bonds.plastic_n(b) = up;
-    bonds.plastic_s(b) = us_p;
-    bonds.hardening(b) = alpha;
-    bonds.plastic_work(b) += plastic;
-    acc.v[1] += plastic;
+    if (plastic_law) {
+      bonds.plastic_n(b) = up;
+      bonds.plastic_s(b) = us_p;
+      bonds.hardening(b) = alpha;
+      bonds.plastic_work(b) += plastic;
+      acc.v[1] += plastic;
+    }
     // Force on i: fn n + fs t; on j the opposite; moments l_i fs and l_j fs (DESIGN.md 1.2).
     const double fx = fn * nx - fs * ny, fy = fn * ny + fs * nx;
     bonds.end_force(b, 0, 0) = fx;
