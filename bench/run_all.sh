@@ -5,7 +5,7 @@
 #                                 phase tables, with 1 and 2 threads
 #   3. bench/tradeoff.py          the speed-accuracy studies (1 thread), CSV + PNG
 #   4. bench/update_docs.py       the tables of docs/performance.md
-# About 10 minutes on 2 idle cores. Run it on an otherwise idle machine: the wall times are the
+# About 12 minutes on 2 idle cores. Run it on an otherwise idle machine: the wall times are the
 # measurement. Results go to bench/results/ (text logs beside the CSV/JSON/PNG).
 # Usage: [STATUS="text shown in the doc"] bench/run_all.sh [build-dir]
 set -euo pipefail
