@@ -64,4 +64,17 @@ Model build_model(const Case& c);
 
 MaterialLaw material_law(const Material& m, Formulation f);
 
+// The conversion criterion of the model's elements (kernels/conversion.hpp), as the FE kernel
+// flags it and the conversion applies it.
+inline ConversionCriterion conversion_criterion(const Model& m) {
+  return {m.elements.active,
+          m.element_adaptive,
+          m.materials,
+          m.elements.material,
+          m.elements.epeq,
+          m.elements.stress,
+          m.elements.qp_per_element,
+          m.scene.sim.conversion_on_tension};
+}
+
 }  // namespace fracta

@@ -151,16 +151,8 @@ double Simulation::evaluate_forces(double dt) {
   {
     ProfilingRegion region("fracta::fe_forces");
     if (m.has_adaptive) {
-      const ConversionCriterion criterion{m.elements.active,
-                                          m.element_adaptive,
-                                          m.materials,
-                                          m.elements.material,
-                                          m.elements.epeq,
-                                          m.elements.stress,
-                                          m.elements.qp_per_element,
-                                          m.scene.sim.conversion_on_tension};
-      bound = compute_fe_forces(m.nodes, m.elements, m.materials, p, criterion, conversion_pending_,
-                                conversion_candidates_);
+      bound = compute_fe_forces(m.nodes, m.elements, m.materials, p, conversion_criterion(m),
+                                conversion_pending_, conversion_candidates_);
     } else {
       bound = compute_fe_forces(m.nodes, m.elements, m.materials, p);
     }

@@ -255,6 +255,7 @@ LanePathResult run_lane_path(MaterialModel model, Formulation f, int qp, bool mi
   mat.tensile_strength = 20e6;
   mat.conversion_strain = 1e-3;
   c.bodies[0].method = BodyMethod::adaptive;  // the kernel's conversion flags are compared too
+  c.sim.conversion_on_tension = true;
   Model m = build_model(c);
   if (mixed) {
     View<MaterialLaw*> two("two_materials", 2);
@@ -287,14 +288,7 @@ LanePathResult run_lane_path(MaterialModel model, Formulation f, int qp, bool mi
   Kokkos::deep_copy(m.nodes.v, v);
   FeParams p = m.fe;
   p.dt = 1e-7;
-  ConversionCriterion criterion{m.elements.active,
-                                m.element_adaptive,
-                                m.materials,
-                                m.elements.material,
-                                m.elements.epeq,
-                                m.elements.stress,
-                                m.elements.qp_per_element,
-                                true};
+  const ConversionCriterion criterion = conversion_criterion(m);
   View<int> pending("pending");
   View<int*> candidates("candidates", 1024);
   LanePathResult r;
