@@ -276,8 +276,7 @@ void Simulation::step() {
   ProfilingRegion region("fracta::step");
   {
     ProfilingRegion integrate("fracta::integrate");
-    // With FE elements the force evaluation starts by setting f (compute_fe_forces).
-    external_work_ += kick_drift(m.nodes, dt_, m.elements.active_count == 0);
+    external_work_ += kick_drift(m.nodes, dt_);
   }
   for (RigidBody& b : m.rigid) {
     project_rigid(b, m.nodes);

@@ -160,7 +160,7 @@ struct FeForces {
     }
     T plastic = splat<T>(0.0), viscous = plastic, strain_work = plastic, area = plastic;
     T div_rate = plastic, dt_element = splat<T>(1e300);
-    auto inverted = area != area, convert = inverted;  // false in every lane
+    auto inverted = !all_lanes<T>(), convert = inverted;
 
     for (int g = 0; g < QP; ++g) {
       // Strain rate and spin at the mid-step configuration x(n+1/2) = x(n+1) - dt/2 v(n+1/2)
@@ -306,8 +306,7 @@ struct FeForces {
         const T gx_old = load_lanes<T>(gx_column, e, consecutive);
         const T gy_old = load_lanes<T>(gy_column, e, consecutive);
         const T work = 0.5 * ((gx_old + gx) * qdot_x + (gy_old + gy) * qdot_y) * p.dt;
-        store_lanes(load_lanes<T>(elements.hourglass_work.data(), e, consecutive) + work,
-                    elements.hourglass_work.data(), e, consecutive);
+        add_lanes(work, elements.hourglass_work.data(), e, consecutive);
         store_lanes(gx, gx_column, e, consecutive);
         store_lanes(gy, gy_column, e, consecutive);
         for (int a = 0; a < 4; ++a) {
@@ -316,10 +315,10 @@ struct FeForces {
         }
         // Stable step of the one-point element: omega_max^2 <= 4 c^2 sum(b.b) (FB 1981), i.e.
         // dt <= l / c with l = 1/sqrt(sum b.b) (h/sqrt(2) for a square of side h).
-        // Without bulk viscosity (no compression) this is 1 / (c sqrt(sum b.b)).
-        const T qs = div_rate < 0.0
-                         ? p.bulk_quadratic * sqrt_(weight) * (-div_rate) + p.bulk_linear * c
-                         : splat<T>(0.0);
+        // Without bulk viscosity (no compression) this is 1 / (c sqrt(sum b.b)). len is
+        // sqrt(weight) here (QP = 1).
+        const T qs = div_rate < 0.0 ? p.bulk_quadratic * len * (-div_rate) + p.bulk_linear * c
+                                    : splat<T>(0.0);
         dt_element = !(b2 > 0.0) ? splat<T>(0.0)
                      : qs > 0.0  ? 1.0 / (sqrt_b2 * (qs + sqrt_(qs * qs + c * c)))
                                  : 1.0 / (sqrt_b2 * c);
@@ -341,12 +340,9 @@ struct FeForces {
                                   : splat<T>(0.0);
       dt_element = len / (qs + sqrt_(qs * qs + c * c));
     }
-    store_lanes(load_lanes<T>(elements.plastic_work.data(), e, consecutive) + plastic,
-                elements.plastic_work.data(), e, consecutive);
-    store_lanes(load_lanes<T>(elements.strain_work.data(), e, consecutive) + strain_work,
-                elements.strain_work.data(), e, consecutive);
-    store_lanes(load_lanes<T>(elements.viscous_work.data(), e, consecutive) + viscous,
-                elements.viscous_work.data(), e, consecutive);
+    add_lanes(plastic, elements.plastic_work.data(), e, consecutive);
+    add_lanes(strain_work, elements.strain_work.data(), e, consecutive);
+    add_lanes(viscous, elements.viscous_work.data(), e, consecutive);
     for (int a = 0; a < 4; ++a) {
       store_lanes(fx[a], &elements.corner_force(0, a, 0), e, consecutive);
       store_lanes(fy[a], &elements.corner_force(0, a, 1), e, consecutive);
@@ -367,8 +363,7 @@ struct FeForces {
   static constexpr double kFullIntegrationDtFactor = 0.9;
 };
 
-// f(n) = the corner forces of the elements around node n (Elements::corner_force): the first
-// force of a step, so the first half kick need not zero f (kick_drift's zero_force).
+// f(n) += the corner forces of the elements around node n (Elements::corner_force).
 struct GatherCornerForces {
   Nodes nodes;
   Elements elements;
@@ -379,12 +374,12 @@ struct GatherCornerForces {
       fx += elements.corner_force(corner / 4, corner % 4, 0);
       fy += elements.corner_force(corner / 4, corner % 4, 1);
     }
-    nodes.f(n, 0) = fx;
-    nodes.f(n, 1) = fy;
+    nodes.f(n, 0) += fx;
+    nodes.f(n, 1) += fy;
   }
 };
 
-// Launches the element kernel and the node gather (which sets nodes.f); returns the smallest
+// Launches the element kernel and the node gather (which adds to nodes.f); returns the smallest
 // element stable step (s, before the safety factor), or a negative value if an element has
 // inverted. With conversion_pending given, the kernel also counts in it the elements (of
 // criterion's adaptive set) that may have reached their conversion criterion (a superset of those

@@ -12,15 +12,13 @@
 namespace fracta {
 
 // One half kick per node. First half (Drift = true): kick, drift, and zero the force and
-// moment accumulators for the next force evaluation (f only with zero_force: the FE gather,
-// when it runs, sets f instead of adding to it); the external work uses v(n+1/2) . f_ext(n).
+// moment accumulators for the next force evaluation; the external work uses v(n+1/2) . f_ext(n).
 // Second half: the work uses v(n+1/2) . f_ext(n+1), then the kick. Returns that work (J).
 template <bool Drift>
 struct HalfKick {
   Nodes nodes;
   double dt;
   bool rotations;  // the scene has particles (their views are allocated)
-  bool zero_force = true;
 
   KOKKOS_INLINE_FUNCTION void operator()(const int n, double& w) const {
     const double inv_m = 1.0 / nodes.mass(n);
@@ -33,7 +31,7 @@ struct HalfKick {
       if (Drift) {
         nodes.x(n, d) += dt * vd;
         w += 0.5 * dt * vd * nodes.f_ext(n, d);
-        if (zero_force) nodes.f(n, d) = 0.0;
+        nodes.f(n, d) = 0.0;
         // Most nodes carry no load: leave their (zero) line clean rather than rewrite it.
         if (nodes.f_ext(n, d) != 0.0) nodes.f_ext(n, d) = 0.0;
       }
@@ -49,12 +47,11 @@ struct HalfKick {
   }
 };
 
-// First half kick and drift. Returns this half's external work (J). zero_force false: the
-// caller's next force evaluation starts by setting f (compute_fe_forces' node gather).
-inline double kick_drift(const Nodes& nodes, double dt, bool zero_force = true) {
+// First half kick and drift. Returns this half's external work (J).
+inline double kick_drift(const Nodes& nodes, double dt) {
   double work = 0.0;
   Kokkos::parallel_reduce("fracta::kick_drift", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
-                          HalfKick<true>{nodes, dt, nodes.has_particles(), zero_force}, work);
+                          HalfKick<true>{nodes, dt, nodes.has_particles()}, work);
   return work;
 }
 

@@ -224,6 +224,7 @@ KOKKOS_INLINE_FUNCTION void drucker_prager_constants(const MaterialLaw& m, doubl
 // (fixed-pressure) return cannot bring back; with tensile_strength = 0 ("no cut-off") the apex
 // is the cap. Returns a negative number when there is no cap at all (phi = 0 and no cut-off).
 KOKKOS_INLINE_FUNCTION double effective_tension_cap(const MaterialLaw& m, double alpha, double k) {
+  if (m.cone_cached) return m.tension_cap;  // cache_derived: this function's value
   double cap = m.tensile_strength > 0.0 ? m.tensile_strength : -1.0;
   if (alpha > 0.0) {
     const double apex = k / (3.0 * alpha);
@@ -477,25 +478,23 @@ template <class T>
 KOKKOS_INLINE_FUNCTION auto may_leave_elastic(const MaterialLaw& m, const T s_trial[4],
                                               const T& epeq) {
   constexpr double margin = 1.0 - 1e-9;
+  if (m.model == kElastic) return !all_lanes<T>();
+  if (m.model == kMohrCoulomb && (!m.cone_cached || !m.plane_strain)) return all_lanes<T>();
   const T p = (s_trial[0] + s_trial[1] + s_trial[2]) / 3.0;
   const T d0 = s_trial[0] - p, d1 = s_trial[1] - p, d2 = s_trial[2] - p;
   const T j2 = 0.5 * (d0 * d0 + d1 * d1 + d2 * d2) + s_trial[3] * s_trial[3];
-  const auto always = j2 == j2 || !(j2 == j2);  // true in every lane
   if (m.model == kBilinearJ2) {
     const T R = m.yield_stress + m.plastic_modulus * epeq;
     return R <= 0.0 || !(3.0 * j2 <= R * R * margin);
   }
-  if (m.model == kMohrCoulomb) {
-    if (!m.cone_cached || !m.plane_strain) return always;
-    const T r = m.cone_k - m.cone_alpha * 3.0 * p;
-    const auto cone = r <= 0.0 || !(j2 <= r * r * margin);
-    const double cap = m.tension_cap;
-    if (!(cap >= 0.0)) return cone;
-    const T centre = 0.5 * (s_trial[0] + s_trial[1]), h = 0.5 * (s_trial[0] - s_trial[1]);
-    const T rad2 = h * h + s_trial[3] * s_trial[3], room = cap - centre;
-    return cone || room <= 0.0 || !(rad2 <= room * room * margin) || !(s_trial[2] <= cap * margin);
-  }
-  return !always;
+  // mohr_coulomb, plane strain, cached.
+  const T r = m.cone_k - m.cone_alpha * 3.0 * p;
+  const auto cone = r <= 0.0 || !(j2 <= r * r * margin);
+  const double cap = m.tension_cap;
+  if (!(cap >= 0.0)) return cone;
+  const T centre = 0.5 * (s_trial[0] + s_trial[1]), h = 0.5 * (s_trial[0] - s_trial[1]);
+  const T rad2 = h * h + s_trial[3] * s_trial[3], room = cap - centre;
+  return cone || room <= 0.0 || !(rad2 <= room * room * margin) || !(s_trial[2] <= cap * margin);
 }
 
 // Updates the stress of one material point for the strain increment deps, accumulating the

@@ -38,6 +38,12 @@ KOKKOS_INLINE_FUNCTION bool any_lane(bool m) {
   return m;
 }
 
+// A comparison result that is true in every lane (bool for double).
+template <class T>
+KOKKOS_INLINE_FUNCTION auto all_lanes() {
+  return splat<T>(0.0) == 0.0;
+}
+
 template <class T>
 struct LaneCount {
   static constexpr int value = 1;
@@ -70,6 +76,13 @@ template <>
 KOKKOS_INLINE_FUNCTION void store_lanes<double, 1>(const double& v, double* column,
                                                    const int (&index)[1], bool) {
   column[index[0]] = v;
+}
+
+// column[index[l]] += lane l of v.
+template <class T, int L>
+KOKKOS_INLINE_FUNCTION void add_lanes(const T& v, double* column, const int (&index)[L],
+                                      bool consecutive) {
+  store_lanes(load_lanes<T>(column, index, consecutive) + v, column, index, consecutive);
 }
 
 #ifdef FRACTA_HOST_SIMD
