@@ -38,9 +38,8 @@ constexpr double kBaseBytes = 20e6;  // Kokkos, HDF5, the executable: 17 MB meas
 // the host mesh; the node-id grid and output/history buffers of a run.
 constexpr double kNodeBytes = 80 + 8 + 8 + 20 + 4 + 24;
 // Element: 4 nodes, material, body, active, alive; hourglass state and four work tallies;
-// host mesh copy (nodes, body, material, method) and output buffers; corner forces (64) and
-// the node -> corner list (16 on the device, 16 on the host while it is built).
-constexpr double kElementBytes = 32 + 64 + 28 + 24 + 64 + 32;
+// host mesh copy (nodes, body, material, method) and output buffers.
+constexpr double kElementBytes = 32 + 64 + 28 + 24;
 // Quadrature point: stress (4), epeq, volume, bulk viscosity.
 constexpr double kQuadraturePointBytes = 56;
 // Not itemised, per cell of any body (measured 690 B per cell in all, 350 B itemised above).
@@ -56,10 +55,8 @@ constexpr double kLatticeElementBytes = 88;
 // device, the topology's node -> bond and node -> element lists, build_lattice's host slot
 // arrays and edge map, and the part not itemised (measured 1200 B per cell beyond the FE part,
 // 1030 B itemised).
-// Each slot also holds its end forces (48 B) and two node -> end entries (8 B, and 8 B on the
-// host while the list is built).
 // Cohesive state (damage, onset and final separation) adds 24 B per slot.
-constexpr double kConvertibleCellBytes = 4 * (108 + 24) + 32 + 16 + 232 + 350 + 4 * (48 + 16);
+constexpr double kConvertibleCellBytes = 4 * (108 + 24) + 32 + 16 + 232 + 350;
 // Contact discs (every node of a convertible body, the boundary nodes of the others): disc id,
 // position at the last build, binning, candidate pairs.
 constexpr double kDiscBytes = 56;

@@ -275,19 +275,6 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
       if (b >= 0) bond_cells[b][bond_cells[b][0] < 0 ? 0 : 1] = e;
     }
   bonds.cells = to_device_rows("bond_cells", bond_cells);
-  bonds.end_force = View<double* [2][3]>("fracta::bond_end_force", nb);
-  {
-    // node -> bond ends CSR, ends in increasing bond order (a fixed summation order).
-    std::vector<int> offset(nn + 1, 0), end(2 * static_cast<size_t>(nb));
-    for (int b = 0; b < nb; ++b)
-      for (int s = 0; s < 2; ++s) ++offset[slot_nodes[b][s] + 1];
-    for (int n = 0; n < nn; ++n) offset[n + 1] += offset[n];
-    std::vector<int> fill(offset.begin(), offset.end() - 1);
-    for (int b = 0; b < nb; ++b)
-      for (int s = 0; s < 2; ++s) end[fill[slot_nodes[b][s]]++] = 2 * b + s;
-    bonds.node_end_offset = to_device_1d<int>("node_bond_end_offset", offset);
-    bonds.node_end = to_device_1d<int>("node_bond_end", end);
-  }
   model.elements.cell_stress = View<double* [3]>("fracta::cell_stress", ne);
   model.elements.cell_intact = View<int*>("fracta::cell_intact", ne);
   model.elements.cell_strain_offset = View<double* [3]>("fracta::cell_strain_offset", ne);
@@ -397,6 +384,7 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   // The used bond slots and the particles (state.hpp), kept up to date by the conversion.
   bonds.used = View<int*>("fracta::bond_used", nb);
   bonds.used_count = build_used_bonds(bonds);
+  update_scatter_plan(bonds);
   nodes.particle_list = View<int*>("fracta::node_particle_list", nn);
   nodes.particle_count = build_particle_list(nodes);
   model.lists = ListWorkspace(std::max(nb, nn));
@@ -520,19 +508,7 @@ Model build_model(const Case& c) {
   el.plastic_work = View<double*>("fracta::element_plastic_work", ne);
   el.hourglass_work = View<double*>("fracta::element_hourglass_work", ne);
   el.viscous_work = View<double*>("fracta::element_viscous_work", ne);
-  el.corner_force = decltype(el.corner_force)("fracta::element_corner_force", ne);
-  {
-    // node -> corners CSR, corners in increasing element order (a fixed summation order).
-    std::vector<int> offset(nn + 1, 0), corner(4 * static_cast<size_t>(ne));
-    for (int e = 0; e < ne; ++e)
-      for (int a = 0; a < 4; ++a) ++offset[m.element_nodes[e][a] + 1];
-    for (int n = 0; n < nn; ++n) offset[n + 1] += offset[n];
-    std::vector<int> fill(offset.begin(), offset.end() - 1);
-    for (int e = 0; e < ne; ++e)
-      for (int a = 0; a < 4; ++a) corner[fill[m.element_nodes[e][a]]++] = 4 * e + a;
-    el.node_corner_offset = to_device_1d<int>("node_corner_offset", offset);
-    el.node_corner = to_device_1d<int>("node_corner", corner);
-  }
+  update_scatter_plan(el);
 
   model.fe.thickness = c.sim.thickness;
   model.fe.hourglass_stiffness = c.sim.hourglass == HourglassForm::stiffness ? 1 : 0;

@@ -1,7 +1,7 @@
 // Bond forces of the bonded disc lattice (DESIGN.md 1.2; paper Eqs. 5, 6 and 8-10 corrected).
 // One kernel over the bond slots: active bonds compute their normal and shear spring forces,
-// check Mohr-Coulomb failure with tension cut-off, and store what they apply at their ends; a
-// node kernel gathers them (no atomics, and a fixed summation order).
+// check Mohr-Coulomb failure with tension cut-off, and add what they apply to their two discs
+// (kernels/scatter.hpp: no atomics on CPUs, and a fixed summation order).
 #pragma once
 #include "kernels/compat.hpp"
 #include "kernels/conversion.hpp"
@@ -126,8 +126,23 @@ struct BondForces {
   Bonds bonds;
   View<const BondLaw*> laws;
   double dt;
+  // The list positions to slots (Bonds::used) when the kernel sweeps that list; empty: every slot.
+  View<int*> list;
+  // Forces added straight into nodes.f and nodes.moment (kernels/scatter.hpp), atomically when
+  // the bonds do not run by the chunks of a ScatterPlan (GPUs).
+  bool atomic = true;
 
-  KOKKOS_INLINE_FUNCTION void operator()(const int b, Sums<3>& acc) const {
+  KOKKOS_INLINE_FUNCTION int slot(const int k) const { return list.extent(0) > 0 ? list(k) : k; }
+
+  // Atomic path: work item = one list position.
+  KOKKOS_INLINE_FUNCTION void operator()(const int k, Sums<3>& acc) const { bond(slot(k), acc); }
+
+  // Chunk path: the list positions [begin, end), in order.
+  KOKKOS_INLINE_FUNCTION void chunk(const int begin, const int end, Sums<3>& acc) const {
+    for (int k = begin; k < end; ++k) bond(slot(k), acc);
+  }
+
+  KOKKOS_INLINE_FUNCTION void bond(const int b, Sums<3>& acc) const {
     if (bonds.state(b) != kBondActive) return;
     const int i = bonds.nodes(b, 0), j = bonds.nodes(b, 1);
     const double dx = nodes.x(j, 0) - nodes.x(i, 0), dy = nodes.x(j, 1) - nodes.x(i, 1);
@@ -262,8 +277,6 @@ struct BondForces {
       bonds.state(b) = kBondBroken;
       bonds.fn(b) = 0.0;
       bonds.fs(b) = 0.0;
-      for (int s = 0; s < 2; ++s)
-        for (int k = 0; k < 3; ++k) bonds.end_force(b, s, k) = 0.0;
       acc.v[0] += energy;
       acc.v[1] += plastic;
       acc.v[2] += 1.0;
@@ -294,76 +307,60 @@ struct BondForces {
     }
     // Force on i: fn n + fs t; on j the opposite; moments l_i fs and l_j fs (DESIGN.md 1.2).
     const double fx = fn * nx - fs * ny, fy = fn * ny + fs * nx;
-    bonds.end_force(b, 0, 0) = fx;
-    bonds.end_force(b, 0, 1) = fy;
-    bonds.end_force(b, 0, 2) = li * fs;
-    bonds.end_force(b, 1, 0) = -fx;
-    bonds.end_force(b, 1, 1) = -fy;
-    bonds.end_force(b, 1, 2) = lj * fs;
+    scatter_add(&nodes.f(i, 0), fx, atomic);
+    scatter_add(&nodes.f(i, 1), fy, atomic);
+    scatter_add(&nodes.moment(i), li * fs, atomic);
+    scatter_add(&nodes.f(j, 0), -fx, atomic);
+    scatter_add(&nodes.f(j, 1), -fy, atomic);
+    scatter_add(&nodes.moment(j), lj * fs, atomic);
   }
 };
 
-// f(n) and moment(n) += what the bonds apply at disc n (Bonds::end_force).
-struct GatherBondForces {
-  Nodes nodes;
-  Bonds bonds;
-  KOKKOS_INLINE_FUNCTION void operator()(const int n) const {
-    double fx = 0.0, fy = 0.0, moment = 0.0;
-    for (int k = bonds.node_end_offset(n); k < bonds.node_end_offset(n + 1); ++k) {
-      const int end = bonds.node_end(k);
-      fx += bonds.end_force(end / 2, end % 2, 0);
-      fy += bonds.end_force(end / 2, end % 2, 1);
-      moment += bonds.end_force(end / 2, end % 2, 2);
-    }
-    nodes.f(n, 0) += fx;
-    nodes.f(n, 1) += fy;
-    nodes.moment(n) += moment;
-  }
-};
+// The bond list the kernels sweep: Bonds::used when it is a proper subset of the slots, else
+// every slot (a list of every slot is the identity).
+inline bool bonds_listed(const Bonds& bonds) {
+  return bonds.used.extent(0) > 0 && bonds.used_count < bonds.count;
+}
+inline int bond_list_count(const Bonds& bonds) {
+  return bonds_listed(bonds) ? bonds.used_count : bonds.count;
+}
 
-// The same over the used slots (Bonds::used) and the particles (Nodes::particle_list): a slot
-// never activated applies nothing, and only particles are ends of active bonds. The lists are
-// increasing, so the order of every sum is the one of the sweeps over all slots and nodes.
-struct BondForcesUsed {
-  BondForces forces;
-  KOKKOS_INLINE_FUNCTION void operator()(const int k, Sums<3>& acc) const {
-    forces(forces.bonds.used(k), acc);
-  }
-};
-
-struct GatherBondForcesParticles {
-  GatherBondForces gather;
-  KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
-    gather(gather.nodes.particle_list(k));
-  }
-};
-
+// Bond forces added into nodes.f and nodes.moment. The list is increasing, so the order of
+// every node's sum is the one of the sweep over all slots. Without a usable bonds.scatter (the
+// plan of the list: update_scatter_plan) the forces are added atomically.
 inline BondStepResult compute_bond_forces(const Nodes& nodes, const Elements& elements,
                                           const Bonds& bonds, const View<const BondLaw*>& laws,
                                           double dt) {
   BondStepResult r;
   if (bonds.count == 0) return r;
+  const int count = bond_list_count(bonds);
+  BondForces forces{
+      nodes, elements, bonds, laws, dt, bonds_listed(bonds) ? bonds.used : View<int*>(), true};
   Sums<3> s;
-  const BondForces forces{nodes, elements, bonds, laws, dt};
-  // (A list of every slot, or every node, is the identity: sweep directly.)
-  if (bonds.used.extent(0) > 0 && bonds.used_count < bonds.count)
-    Kokkos::parallel_reduce("fracta::bond_forces",
-                            Kokkos::RangePolicy<ExecSpace>(0, bonds.used_count),
-                            BondForcesUsed{forces}, Kokkos::Sum<Sums<3>>(s));
-  else
-    Kokkos::parallel_reduce("fracta::bond_forces", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
-                            forces, Kokkos::Sum<Sums<3>>(s));
-  if (nodes.particle_list.extent(0) > 0 && nodes.particle_count < nodes.count)
-    Kokkos::parallel_for("fracta::bond_gather",
-                         Kokkos::RangePolicy<ExecSpace>(0, nodes.particle_count),
-                         GatherBondForcesParticles{GatherBondForces{nodes, bonds}});
-  else
-    Kokkos::parallel_for("fracta::bond_gather", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
-                         GatherBondForces{nodes, bonds});
+  if (bonds.scatter.usable(count)) {
+    forces.atomic = false;
+    s = for_each_chunk<Kokkos::Sum>("fracta::bond_forces", bonds.scatter, forces, s,
+                                    [](Sums<3> a, const Sums<3>& b) { return a += b; });
+  } else {
+    Kokkos::parallel_reduce("fracta::bond_forces", Kokkos::RangePolicy<ExecSpace>(0, count), forces,
+                            Kokkos::Sum<Sums<3>>(s));
+  }
   r.fracture_energy = s.v[0];
   r.plastic_work = s.v[1];
   r.broken = static_cast<long>(s.v[2] + 0.5);
   return r;
+}
+
+// The scatter plan of the bond list (kernels/scatter.hpp): after every change of it.
+inline void update_scatter_plan(Bonds& bonds) {
+  const auto list = bonds_listed(bonds) ? bonds.used : View<int*>();
+  const auto ends = bonds.nodes;
+  build_scatter_plan(
+      bonds.scatter, bond_list_count(bonds), KOKKOS_LAMBDA(const int k, int& lo, int& hi) {
+        const int b = list.extent(0) > 0 ? list(k) : k;
+        lo = min_(ends(b, 0), ends(b, 1));
+        hi = max_(ends(b, 0), ends(b, 1));
+      });
 }
 
 // Stable step of the bond network (DESIGN.md 1.4): Gershgorin's bound on the largest

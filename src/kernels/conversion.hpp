@@ -189,7 +189,6 @@ inline int compact_converted(Elements& el, const View<const int*>& adaptive,
   if (converted == 0) return 0;
   const auto out_active = active_scratch;
   const auto alive = el.alive;
-  const auto corner_force = el.corner_force;
   Kokkos::parallel_for(
       "fracta::conversion_scatter", Kokkos::RangePolicy<ExecSpace>(0, n_active),
       KOKKOS_LAMBDA(const int i) {
@@ -197,8 +196,6 @@ inline int compact_converted(Elements& el, const View<const int*>& adaptive,
         if (flag(i)) {
           new_cells(position(i)) = e;
           alive(e) = 0;
-          // Its corners leave the node gather (GatherCornerForces) for good.
-          for (int a = 0; a < 4; ++a) corner_force(e, a, 0) = corner_force(e, a, 1) = 0.0;
         } else {
           out_active(i - position(i)) = e;
         }
@@ -268,15 +265,12 @@ inline int compact_candidates(Elements& el, const View<const int*>& adaptive,
   if (converted == 0) return 0;
   const auto active = el.active;
   const auto alive = el.alive;
-  const auto corner_force = el.corner_force;
   Kokkos::parallel_for(
       "fracta::conversion_new_cells", Kokkos::RangePolicy<ExecSpace>(0, converted),
       KOKKOS_LAMBDA(const int j) {
         const int e = active(sorted(j));
         new_cells(j) = e;
         alive(e) = 0;
-        // Its corners leave the node gather (GatherCornerForces) for good.
-        for (int a = 0; a < 4; ++a) corner_force(e, a, 0) = corner_force(e, a, 1) = 0.0;
       });
   // Only the tail from the first converted position moves: copy it aside, then write each
   // remaining element at its index less the number converted below it (a binary search).

@@ -1,12 +1,13 @@
 // Finite-element internal forces (DESIGN.md 1.1): Q4 elements, updated Lagrangian.
 // One kernel per step over the active elements: velocity gradient -> Jaumann rotation of the
-// stress -> material update -> bulk viscosity -> hourglass control -> nodal forces (atomic
-// corner forces, gathered per node by a second kernel). It also returns the element stable
-// time step bound.
+// stress -> material update -> bulk viscosity -> hourglass control -> nodal forces, added into
+// the node accumulators (kernels/scatter.hpp). It also returns the element stable time step
+// bound.
 #pragma once
 #include "kernels/compat.hpp"
 #include "kernels/conversion.hpp"
 #include "kernels/materials.hpp"
+#include "kernels/scatter.hpp"
 #include "kernels/simd.hpp"
 #include "kernels/state.hpp"
 
@@ -115,12 +116,27 @@ struct FeForces {
   View<int> conversion_pending;      // number of flagged elements; empty: no check
   View<int*> conversion_candidates;  // active indices of the first flagged (any order)
 
+  // Nodal forces: added straight into nodes.f (kernels/scatter.hpp), atomically when the
+  // elements do not run by the chunks of a ScatterPlan (GPUs).
+  bool atomic = true;
+
   static int batches(int active_count) { return (active_count + kLanes - 1) / kLanes; }
 
-  KOKKOS_INLINE_FUNCTION void operator()(const int batch, double& dt_min) const {
-    const int first = batch * kLanes;
+  // Atomic path: work item = one batch.
+  KOKKOS_INLINE_FUNCTION void operator()(const int batch_index, double& dt_min) const {
+    batch(batch_index * kLanes, elements.active_count, dt_min);
+  }
+
+  // Chunk path: the active positions [begin, end) in batches, in order (begin is a multiple of
+  // kLanes: scatter_chunk_size).
+  KOKKOS_INLINE_FUNCTION void chunk(const int begin, const int end, double& dt_min) const {
+    for (int first = begin; first < end; first += kLanes) batch(first, end, dt_min);
+  }
+
+  // The batch of active positions [first, min(first + kLanes, end)).
+  KOKKOS_INLINE_FUNCTION void batch(const int first, const int end, double& dt_min) const {
     if constexpr (kLanes > 1) {
-      if (first + kLanes <= elements.active_count) {
+      if (first + kLanes <= end) {
         const int material = elements.material(elements.active(first));
         bool uniform = true;
         for (int l = 1; l < kLanes; ++l)
@@ -131,8 +147,8 @@ struct FeForces {
         }
       }
     }
-    const int end = min_(first + kLanes, elements.active_count);
-    for (int i = first; i < end; ++i) element<double>(i, dt_min);
+    const int last = min_(first + kLanes, end);
+    for (int i = first; i < last; ++i) element<double>(i, dt_min);
   }
 
   // Active elements [first, first + L), L = LaneCount<T>, all of one material.
@@ -343,10 +359,12 @@ struct FeForces {
     add_lanes(plastic, elements.plastic_work.data(), e, consecutive);
     add_lanes(strain_work, elements.strain_work.data(), e, consecutive);
     add_lanes(viscous, elements.viscous_work.data(), e, consecutive);
-    for (int a = 0; a < 4; ++a) {
-      store_lanes(fx[a], &elements.corner_force(0, a, 0), e, consecutive);
-      store_lanes(fy[a], &elements.corner_force(0, a, 1), e, consecutive);
-    }
+    // Element by element in lane order, so a node shared by two lanes sums them in element order.
+    for (int l = 0; l < L; ++l)
+      for (int a = 0; a < 4; ++a) {
+        scatter_add(&nodes.f(node[a][l], 0), get_lane(fx[a], l), atomic);
+        scatter_add(&nodes.f(node[a][l], 1), get_lane(fy[a], l), atomic);
+      }
     for (int l = 0; l < L; ++l) {
       const double dt_e = get_lane(dt_element, l);
       dt_min = dt_min < dt_e ? dt_min : dt_e;
@@ -363,50 +381,57 @@ struct FeForces {
   static constexpr double kFullIntegrationDtFactor = 0.9;
 };
 
-// f(n) += the corner forces of the elements around node n (Elements::corner_force).
-struct GatherCornerForces {
-  Nodes nodes;
-  Elements elements;
-  KOKKOS_INLINE_FUNCTION void operator()(const int n) const {
-    double fx = 0.0, fy = 0.0;
-    for (int k = elements.node_corner_offset(n); k < elements.node_corner_offset(n + 1); ++k) {
-      const int corner = elements.node_corner(k);
-      fx += elements.corner_force(corner / 4, corner % 4, 0);
-      fy += elements.corner_force(corner / 4, corner % 4, 1);
-    }
-    nodes.f(n, 0) += fx;
-    nodes.f(n, 1) += fy;
-  }
-};
-
-// Launches the element kernel and the node gather (which adds to nodes.f); returns the smallest
+// Launches the element kernel, which adds the element forces to nodes.f; returns the smallest
 // element stable step (s, before the safety factor), or a negative value if an element has
 // inverted. With conversion_pending given, the kernel also counts in it the elements (of
 // criterion's adaptive set) that may have reached their conversion criterion (a superset of those
 // that have), and writes the active indices of the first ones into conversion_candidates (as many
-// as it holds; compact_candidates in conversion.hpp).
+// as it holds; compact_candidates in conversion.hpp). Without a usable elements.scatter (the
+// plan of the active list: update_scatter_plan) the forces are added atomically.
+template <int QP>
+inline double launch_fe_forces(const char* name, const FeForces<QP>& kernel) {
+  double dt_min = 1e300;
+  const Elements& elements = kernel.elements;
+  if (elements.scatter.usable(elements.active_count)) {
+    FeForces<QP> k = kernel;
+    k.atomic = false;
+    return for_each_chunk<Kokkos::Min>(name, elements.scatter, k, dt_min,
+                                       [](double a, double b) { return a < b ? a : b; });
+  }
+  const auto policy =
+      Kokkos::RangePolicy<ExecSpace>(0, FeForces<QP>::batches(elements.active_count));
+  Kokkos::parallel_reduce(name, policy, kernel, Kokkos::Min<double>(dt_min));
+  return dt_min;
+}
+
 inline double compute_fe_forces(const Nodes& nodes, const Elements& elements,
                                 const View<const MaterialLaw*>& materials, const FeParams& p,
                                 const ConversionCriterion& criterion = {},
                                 const View<int>& conversion_pending = {},
                                 const View<int*>& conversion_candidates = {}) {
-  double dt_min = 1e300;
-  if (elements.active_count == 0) return dt_min;
-  const auto policy =
-      Kokkos::RangePolicy<ExecSpace>(0, FeForces<1>::batches(elements.active_count));
+  if (elements.active_count == 0) return 1e300;
   if (elements.qp_per_element == 1)
-    Kokkos::parallel_reduce("fracta::fe_forces", policy,
+    return launch_fe_forces("fracta::fe_forces",
                             FeForces<1>{nodes, elements, materials, p, criterion,
-                                        conversion_pending, conversion_candidates},
-                            Kokkos::Min<double>(dt_min));
-  else
-    Kokkos::parallel_reduce("fracta::fe_forces_full", policy,
-                            FeForces<4>{nodes, elements, materials, p, criterion,
-                                        conversion_pending, conversion_candidates},
-                            Kokkos::Min<double>(dt_min));
-  Kokkos::parallel_for("fracta::fe_gather", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
-                       GatherCornerForces{nodes, elements});
-  return dt_min;
+                                        conversion_pending, conversion_candidates});
+  return launch_fe_forces("fracta::fe_forces_full",
+                          FeForces<4>{nodes, elements, materials, p, criterion, conversion_pending,
+                                      conversion_candidates});
+}
+
+// The scatter plan of the active list (kernels/scatter.hpp): after every change of it.
+inline void update_scatter_plan(Elements& elements) {
+  const auto active = elements.active;
+  const auto element_nodes = elements.nodes;
+  build_scatter_plan(
+      elements.scatter, elements.active_count, KOKKOS_LAMBDA(const int k, int& lo, int& hi) {
+        const int e = active(k);
+        lo = hi = element_nodes(e, 0);
+        for (int a = 1; a < 4; ++a) {
+          lo = min_(lo, element_nodes(e, a));
+          hi = max_(hi, element_nodes(e, a));
+        }
+      });
 }
 
 }  // namespace fracta

@@ -13,6 +13,7 @@
 #pragma once
 #include "kernels/compat.hpp"
 #include "kernels/materials.hpp"
+#include "kernels/scatter.hpp"
 
 namespace fracta {
 
@@ -75,11 +76,10 @@ struct Bonds {
   View<double*> onset_separation;
   View<double*> final_separation;  // effective separation at which it breaks (m)
   View<int* [2]> cells;            // converted cells whose face (edge) or body (diagonal) it is; -1
-  // Forces without atomics: each bond writes what it applies to its two ends (fx, fy in N,
-  // moment in N m), and each disc gathers its ends through the CSR list node -> (2 b + end).
-  // A bond that is not active holds zeros (set when it breaks), so the gather needs no test.
-  View<double* [2][3]> end_force;
-  View<int*> node_end_offset, node_end;  // ends at node n: [offset(n), offset(n+1))
+  // Forces without atomics on CPUs: the chunks of the used list (or of every slot), coloured so
+  // that no two chunks of a colour share a disc (kernels/scatter.hpp; update_scatter_plan after
+  // every change of `used`).
+  ScatterPlan scatter;
   int count = 0;
   // The slots ever activated (state != kBondInactive: active or broken) in increasing order,
   // [0, used_count): a slot is activated once and never returns to inactive, so the conversion
@@ -139,12 +139,10 @@ struct Elements {
   View<double*> plastic_work;               // cumulative (J)
   View<double*> hourglass_work;             // cumulative (J)
   View<double*> viscous_work;               // cumulative bulk-viscosity work (J)
-  // Nodal forces without atomics: each element writes its four corner forces (N), and a node
-  // gathers the corners that touch it through the CSR list node -> (4 e + corner) of the mesh.
-  // A converted element's corners are zeroed once, so the gather needs no liveness test. The
-  // fixed gather order also makes the FE forces independent of the thread count.
-  ColumnView<double* [4][2]> corner_force;
-  View<int*> node_corner_offset, node_corner;  // corners of node n: [offset(n), offset(n+1))
+  // Nodal forces without atomics on CPUs: the chunks of the active list, coloured so that no
+  // two chunks of a colour share a node (kernels/scatter.hpp; update_scatter_plan after every
+  // change of `active`). The fixed chunks make the FE forces independent of the thread count.
+  ScatterPlan scatter;
 };
 
 // Piecewise-linear load tables, one per load, flattened: entries [offset[k], offset[k+1]).

@@ -1,0 +1,153 @@
+// Node-force scatter without atomics and without a gather pass (CPUs).
+//
+// Element corners and bond ends add their forces straight into the node accumulators (nodes.f,
+// nodes.moment). Two work items that share a node must then not run at the same time. The
+// items of a list (the active elements, the used bond slots) are cut into chunks of
+// consecutive list positions; a chunk's nodes lie in the interval [lo, hi] of the node indices
+// its items touch, and chunks whose intervals overlap get different colours (first fit in the
+// order of lo, which is optimal for intervals: as many colours as the deepest overlap, 2 on a
+// structured mesh whose rows are shorter than a chunk). One colour runs at a time; each of its
+// chunks is one work item, run by one thread in list order, so no two threads ever write one
+// node and the sum at every node has a fixed order, whatever the thread count (the chunks
+// depend on the list only).
+//
+// Why not the corner/end arrays and a node gather (the previous design): they cost every force
+// three times in memory (the store, its write-allocate, the gather's load) plus the node ->
+// corner lists, about 200 B per element-step of the FE step's 700. Why not atomics: on CPUs an
+// atomic double add is a compare-and-swap loop, and the order of the sums would change from
+// run to run. GPUs take the atomic path (kAtomicScatter): thousands of threads, fast atomics,
+// and a chunk per thread would serialize the work.
+#pragma once
+#include <algorithm>
+#include <numeric>
+#include <vector>
+
+#include "kernels/compat.hpp"
+
+namespace fracta {
+
+#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+inline constexpr bool kAtomicScatter = true;
+#else
+inline constexpr bool kAtomicScatter = false;
+#endif
+
+// *target += value: a plain add inside a chunk of a ScatterPlan, an atomic one otherwise.
+KOKKOS_INLINE_FUNCTION void scatter_add(double* target, double value, bool atomic) {
+  if (atomic)
+    Kokkos::atomic_add(target, value);
+  else
+    *target += value;
+}
+
+struct ScatterPlan {
+  static constexpr int kMaxColors = 16;
+  // Chunk c holds the list positions [c * chunk_size, min((c + 1) * chunk_size, item_count)).
+  int chunk_size = 0;
+  int item_count = -1;  // the list length the plan was built for (-1: no plan)
+  int colors = 0;       // 0: no plan (the kernels then add atomically)
+  // The chunks of colour k, increasing in lo: color_chunks[color_offset[k], color_offset[k+1]).
+  int color_offset[kMaxColors + 1] = {};
+  View<int*> color_chunks;
+
+  // The plan applies to a list of `count` items (else the kernels take the atomic path).
+  bool usable(int count) const { return !kAtomicScatter && colors > 0 && item_count == count; }
+
+  KOKKOS_INLINE_FUNCTION int chunk_begin(int chunk) const { return chunk * chunk_size; }
+  KOKKOS_INLINE_FUNCTION int chunk_end(int chunk) const {
+    return min_(chunk * chunk_size + chunk_size, item_count);
+  }
+};
+
+// Chunk size: a multiple of 8 (the SIMD element batches stay aligned), at least 64 items
+// (less and the colour passes cost more than they save), at most 2048 (a chunk's working set
+// stays in the L2 cache), and about count / 64 between (64 chunks: enough for the threads of
+// a CPU to share each colour).
+inline int scatter_chunk_size(int count) {
+  const int target = std::min(2048, std::max(64, count / 64));
+  return (target + 7) / 8 * 8;
+}
+
+// Builds the plan for a list of `count` items whose position k touches the nodes in
+// [lo, hi] as `node_range(k, lo, hi)` (a device functor) sets them. Host: it loops over the
+// chunks (about 64 to count / 2048 of them), never over the items.
+template <class NodeRange>
+void build_scatter_plan(ScatterPlan& plan, int count, const NodeRange& node_range) {
+  plan = ScatterPlan{};
+  if (kAtomicScatter || count <= 0) return;
+  const int size = scatter_chunk_size(count);
+  const int chunks = (count + size - 1) / size;
+  View<int* [2]> interval("fracta::scatter_intervals", chunks);
+  Kokkos::parallel_for(
+      "fracta::scatter_intervals", Kokkos::RangePolicy<ExecSpace>(0, chunks),
+      KOKKOS_LAMBDA(const int c) {
+        int lo = 2147483647, hi = -1;
+        const int end = min_(c * size + size, count);
+        for (int k = c * size; k < end; ++k) {
+          int a, b;
+          node_range(k, a, b);
+          lo = min_(lo, a);
+          hi = max_(hi, b);
+        }
+        interval(c, 0) = lo;
+        interval(c, 1) = hi;
+      });
+  const auto host = Kokkos::create_mirror_view_and_copy(HostSpace(), interval);
+  std::vector<int> order(chunks);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return host(a, 0) < host(b, 0); });
+  // First fit in the order of lo: a chunk takes the first colour whose last chunk ends below it.
+  std::vector<int> color_end, color(chunks);
+  for (const int c : order) {
+    int k = 0;
+    while (k < static_cast<int>(color_end.size()) && color_end[k] >= host(c, 0)) ++k;
+    if (k == static_cast<int>(color_end.size())) color_end.push_back(-1);
+    color_end[k] = host(c, 1);
+    color[c] = k;
+  }
+  const int colors = static_cast<int>(color_end.size());
+  if (colors > ScatterPlan::kMaxColors) return;  // a mesh this tangled adds atomically
+  std::vector<int> grouped;
+  grouped.reserve(chunks);
+  plan.color_offset[0] = 0;
+  for (int k = 0; k < colors; ++k) {
+    for (const int c : order)
+      if (color[c] == k) grouped.push_back(c);
+    plan.color_offset[k + 1] = static_cast<int>(grouped.size());
+  }
+  plan.color_chunks = View<int*>("fracta::scatter_color_chunks", chunks);
+  const auto mirror = Kokkos::create_mirror_view(plan.color_chunks);
+  for (int i = 0; i < chunks; ++i) mirror(i) = grouped[i];
+  Kokkos::deep_copy(plan.color_chunks, mirror);
+  plan.chunk_size = size;
+  plan.item_count = count;
+  plan.colors = colors;
+}
+
+// Runs chunk_work.chunk(begin, end, value) over every chunk of the plan, colour by colour (one
+// parallel_reduce each, with Reducer: Kokkos::Sum<Value>, Kokkos::Min<Value>, ...), and returns
+// the colours' results joined by join(a, b) on the host, starting from `init`.
+// ChunkWork: KOKKOS_INLINE_FUNCTION void chunk(int begin, int end, Value& v) const.
+template <template <class...> class Reducer, class Value, class ChunkWork, class Join>
+Value for_each_chunk(const char* name, const ScatterPlan& plan, const ChunkWork& chunk_work,
+                     Value init, const Join& join) {
+  Value total = init;
+  const auto chunks = plan.color_chunks;
+  const ScatterPlan p = plan;
+  for (int k = 0; k < plan.colors; ++k) {
+    const int first = plan.color_offset[k];
+    Value part;
+    Kokkos::parallel_reduce(
+        name, Kokkos::RangePolicy<ExecSpace>(0, plan.color_offset[k + 1] - first),
+        KOKKOS_LAMBDA(const int i, Value& v) {
+          const int c = chunks(first + i);
+          chunk_work.chunk(p.chunk_begin(c), p.chunk_end(c), v);
+        },
+        Reducer<Value>(part));
+    total = join(total, part);
+  }
+  return total;
+}
+
+}  // namespace fracta
