@@ -20,8 +20,8 @@ double fe_forces_kernels(const Nodes& nodes, const Elements& elements,
   const ConversionCriterion criterion{};
   const View<int> pending("fracta::cuda_check_pending");
   const View<int*> candidates("fracta::cuda_check_candidates", 16);
-  return compute_fe_forces(nodes, elements, materials, p) +
-         compute_fe_forces(nodes, elements, materials, p, criterion, pending, candidates);
+  return compute_fe_forces(nodes, elements, materials, p).dt_min +
+         compute_fe_forces(nodes, elements, materials, p, criterion, pending, candidates).plastic;
 }
 
 }  // namespace fracta::cuda_check

@@ -28,7 +28,7 @@ namespace fs = std::filesystem;
 
 constexpr const char* kFormat = "fracta checkpoint";
 // 2: bond damage and onset separation; 3: the lists of used bond slots and of particles
-constexpr std::int64_t kFormatVersion = 3;
+constexpr std::int64_t kFormatVersion = 4;
 
 // Owns one HDF5 identifier.
 class H5Handle {
@@ -232,6 +232,9 @@ struct CheckpointIO {
     f("touching", s.touching_);
     f("contact_elastic", s.contact_elastic_);
     f("contact_dissipated", s.contact_dissipated_);
+    f("element_plastic_work", s.element_plastic_work_);
+    f("hourglass_work", s.hourglass_work_);
+    f("viscous_work", s.viscous_work_);
     f("conversion_energy", s.conversion_energy_);
     f("conversions", s.conversions_);
     f("conversions_this_step", s.conversions_this_step_);

@@ -504,10 +504,7 @@ Model build_model(const Case& c) {
   el.bulk_viscosity = View<double*>("fracta::qp_bulk_viscosity", static_cast<size_t>(ne) * qp);
   el.hourglass_disp = decltype(el.hourglass_disp)("fracta::element_hourglass_disp", ne);
   el.hourglass_force = decltype(el.hourglass_force)("fracta::element_hourglass_force", ne);
-  el.strain_work = View<double*>("fracta::element_strain_work", ne);
-  el.plastic_work = View<double*>("fracta::element_plastic_work", ne);
-  el.hourglass_work = View<double*>("fracta::element_hourglass_work", ne);
-  el.viscous_work = View<double*>("fracta::element_viscous_work", ne);
+  el.recoverable_work = View<double*>("fracta::element_recoverable_work", ne);
   update_scatter_plan(el);
 
   model.fe.thickness = c.sim.thickness;

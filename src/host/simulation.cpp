@@ -150,12 +150,15 @@ double Simulation::evaluate_forces(double dt) {
   double bound;
   {
     ProfilingRegion region("fracta::fe_forces");
-    if (m.has_adaptive) {
-      bound = compute_fe_forces(m.nodes, m.elements, m.materials, p, conversion_criterion(m),
-                                conversion_pending_, conversion_candidates_);
-    } else {
-      bound = compute_fe_forces(m.nodes, m.elements, m.materials, p);
-    }
+    const FeStepSums fe =
+        m.has_adaptive
+            ? compute_fe_forces(m.nodes, m.elements, m.materials, p, conversion_criterion(m),
+                                conversion_pending_, conversion_candidates_)
+            : compute_fe_forces(m.nodes, m.elements, m.materials, p);
+    bound = fe.dt_min;
+    element_plastic_work_ += fe.plastic;
+    hourglass_work_ += fe.hourglass;
+    viscous_work_ += fe.viscous;
   }
   // Model only what the scene holds now: bonds work once a cell has converted, and contact
   // needs several bodies or discs (one intact body cannot touch itself).
@@ -323,10 +326,10 @@ HistoryRecord Simulation::history() {
   r.energy.internal = et.internal + lt.bond_elastic + contact_elastic_;
   r.energy.contact = contact_dissipated_;
   r.energy.conversion = conversion_energy_;
-  r.energy.plastic = et.plastic + lt.bond_plastic;
+  r.energy.plastic = element_plastic_work_ + lt.bond_plastic;
   r.energy.fracture = fracture_energy_;
-  r.energy.hourglass = et.hourglass;
-  r.energy.viscous = et.viscous;
+  r.energy.hourglass = hourglass_work_;
+  r.energy.viscous = viscous_work_;
   r.energy.external = external_work_;
   r.energy.time_discretization = nt.time_discretization + lt.rotational_time_discretization;
   const double dissipated = r.energy.plastic + r.energy.hourglass + r.energy.viscous +
@@ -500,6 +503,9 @@ void Simulation::save_snapshot() {
   snapshot_.fracture_energy = fracture_energy_;
   snapshot_.contact_dissipated = contact_dissipated_;
   snapshot_.contact_elastic = contact_elastic_;
+  snapshot_.element_plastic_work = element_plastic_work_;
+  snapshot_.hourglass_work = hourglass_work_;
+  snapshot_.viscous_work = viscous_work_;
   snapshot_.conversion_energy = conversion_energy_;
   snapshot_.converted_count = model_.converted_count;
   snapshot_.conversions = conversions_;
@@ -524,6 +530,9 @@ void Simulation::restore_snapshot() {
   fracture_energy_ = snapshot_.fracture_energy;
   contact_dissipated_ = snapshot_.contact_dissipated;
   contact_elastic_ = snapshot_.contact_elastic;
+  element_plastic_work_ = snapshot_.element_plastic_work;
+  hourglass_work_ = snapshot_.hourglass_work;
+  viscous_work_ = snapshot_.viscous_work;
   conversion_energy_ = snapshot_.conversion_energy;
   model_.converted_count = snapshot_.converted_count;
   conversions_ = snapshot_.conversions;

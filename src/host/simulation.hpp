@@ -56,6 +56,8 @@ class Simulation {
   double bond_dt_bound_ = 1e300, fracture_energy_ = 0.0, energy_floor_ = 0.0;
   long broken_bonds_ = 0, touching_ = 0;
   double contact_elastic_ = 0.0, contact_dissipated_ = 0.0, conversion_energy_ = 0.0;
+  // Work the elements dissipated since t = 0 (J), summed per step (FeStepSums).
+  double element_plastic_work_ = 0.0, hourglass_work_ = 0.0, viscous_work_ = 0.0;
   long conversions_ = 0, conversions_this_step_ = 0;
   std::string failure_;
   View<int*> probe_node_, probe_element_;
@@ -73,6 +75,7 @@ class Simulation {
     StateViews views;
     double time = 0, dt = 0, dt_bound = 0, external_work = 0, fracture_energy = 0;
     double contact_dissipated = 0, contact_elastic = 0, conversion_energy = 0;
+    double element_plastic_work = 0, hourglass_work = 0, viscous_work = 0;
     int converted_count = 0;
     long conversions = 0;
     std::vector<RigidBody> rigid;

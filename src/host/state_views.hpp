@@ -37,10 +37,7 @@ void for_each_state_view(StateViews& a, StateViews& b, F&& f) {
   f("elements.bulk_viscosity", e.bulk_viscosity, se.bulk_viscosity);
   f("elements.hourglass_disp", e.hourglass_disp, se.hourglass_disp);
   f("elements.hourglass_force", e.hourglass_force, se.hourglass_force);
-  f("elements.strain_work", e.strain_work, se.strain_work);
-  f("elements.plastic_work", e.plastic_work, se.plastic_work);
-  f("elements.hourglass_work", e.hourglass_work, se.hourglass_work);
-  f("elements.viscous_work", e.viscous_work, se.viscous_work);
+  f("elements.recoverable_work", e.recoverable_work, se.recoverable_work);
   f("elements.active", e.active, se.active);
   f("elements.alive", e.alive, se.alive);
   f("nodes.particle", n.particle, sn.particle);

@@ -308,7 +308,7 @@ inline double prestress_converted_bonds(const View<int*>& cells, int count,
       "fracta::prestress_converted_bonds", Kokkos::RangePolicy<ExecSpace>(0, count),
       KOKKOS_LAMBDA(const int k, double& energy) {
         const int e = cells(k);
-        energy += el.strain_work(e) - el.plastic_work(e);
+        energy += el.recoverable_work(e);
         const LatticeStiffness s = stiffness(el.material(e));
         double sig[3] = {0, 0, 0};  // xx, yy, xy averaged over the quadrature points
         for (int g = 0; g < qp; ++g) {

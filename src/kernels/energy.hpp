@@ -93,28 +93,24 @@ inline LatticeTotals lattice_totals(const Nodes& nodes, const Bonds& bonds, doub
   return t;
 }
 
-// Totals over the active elements: recoverable strain energy and cumulative dissipation (J).
+// Totals over the active elements: the recoverable strain energy (J). (Their dissipation is
+// summed per step: FeStepSums.)
 struct ElementTotals {
-  double internal = 0, plastic = 0, hourglass = 0, viscous = 0;
+  double internal = 0;
 };
 
 inline ElementTotals element_totals(const Elements& el) {
-  Sums<4> s;
+  double internal = 0.0;
   if (el.count == 0) return {};
-  // Over every element: a converted one keeps its dissipation in the balance; its recoverable
-  // energy went to the bonds (and the difference to the conversion term).
+  // A converted element's recoverable energy went to the bonds (and the difference to the
+  // conversion term).
   Kokkos::parallel_reduce(
       "fracta::element_totals", Kokkos::RangePolicy<ExecSpace>(0, el.count),
-      KOKKOS_LAMBDA(const int e, Sums<4>& acc) {
-        // Recoverable energy = stress work - plastic dissipation, both integrated per step
-        // (a state function 1/2 s:C^-1:s V would drift against the nodal work as V changes).
-        if (el.alive(e)) acc.v[0] += el.strain_work(e) - el.plastic_work(e);
-        acc.v[1] += el.plastic_work(e);
-        acc.v[2] += el.hourglass_work(e);
-        acc.v[3] += el.viscous_work(e);
+      KOKKOS_LAMBDA(const int e, double& acc) {
+        if (el.alive(e)) acc += el.recoverable_work(e);
       },
-      Kokkos::Sum<Sums<4>>(s));
-  return {s.v[0], s.v[1], s.v[2], s.v[3]};
+      internal);
+  return {internal};
 }
 
 // Mass-weighted sums over a node range [begin, end): mass, m x, m y, m vx, m vy.

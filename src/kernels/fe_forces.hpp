@@ -94,6 +94,43 @@ KOKKOS_INLINE_FUNCTION T qp_gradients(const T x[4], const T y[4], int g, T bx[4]
   }
 }
 
+// What an evaluation of the element forces returns besides the forces: the smallest element
+// stable step (s, before the safety factor; negative if an element inverted) and the work
+// dissipated over the step (J): plastic, hourglass, bulk viscosity. The dissipation is summed
+// by the caller over the run; per element only the recoverable part is kept
+// (Elements::recoverable_work), which the conversion hands to the bonds.
+struct FeStepSums {
+  double dt_min = 1e300;
+  double plastic = 0.0, hourglass = 0.0, viscous = 0.0;
+};
+
+// Kokkos reducer of FeStepSums: min of dt, sums of the rest (a reducer, since Kokkos 3.4
+// cannot combine a Min and a Sum in one parallel_reduce).
+struct FeStepReducer {
+  using reducer = FeStepReducer;
+  using value_type = FeStepSums;
+  using result_view_type = Kokkos::View<value_type, HostSpace, Kokkos::MemoryUnmanaged>;
+  value_type& value;
+  KOKKOS_INLINE_FUNCTION explicit FeStepReducer(value_type& v) : value(v) {}
+  KOKKOS_INLINE_FUNCTION void join(value_type& dest, const value_type& src) const {
+    dest.dt_min = dest.dt_min < src.dt_min ? dest.dt_min : src.dt_min;
+    dest.plastic += src.plastic;
+    dest.hourglass += src.hourglass;
+    dest.viscous += src.viscous;
+  }
+  KOKKOS_INLINE_FUNCTION void join(volatile value_type& dest,
+                                   const volatile value_type& src) const {
+    dest.dt_min = dest.dt_min < src.dt_min ? dest.dt_min : src.dt_min;
+    dest.plastic += src.plastic;
+    dest.hourglass += src.hourglass;
+    dest.viscous += src.viscous;
+  }
+  KOKKOS_INLINE_FUNCTION void init(value_type& v) const { v = FeStepSums(); }
+  KOKKOS_INLINE_FUNCTION value_type& reference() const { return value; }
+  result_view_type view() const { return result_view_type(&value); }
+  KOKKOS_INLINE_FUNCTION bool references_scalar() const { return true; }
+};
+
 // QP = 1: one-point integration with the uniform-strain gradients of Flanagan & Belytschko
 // (1981) (exact element averages), plus hourglass control. QP = 4: 2x2 Gauss, no hourglass.
 //
@@ -123,18 +160,18 @@ struct FeForces {
   static int batches(int active_count) { return (active_count + kLanes - 1) / kLanes; }
 
   // Atomic path: work item = one batch.
-  KOKKOS_INLINE_FUNCTION void operator()(const int batch_index, double& dt_min) const {
-    batch(batch_index * kLanes, elements.active_count, dt_min);
+  KOKKOS_INLINE_FUNCTION void operator()(const int batch_index, FeStepSums& acc) const {
+    batch(batch_index * kLanes, elements.active_count, acc);
   }
 
   // Chunk path: the active positions [begin, end) in batches, in order (begin is a multiple of
   // kLanes: scatter_chunk_size).
-  KOKKOS_INLINE_FUNCTION void chunk(const int begin, const int end, double& dt_min) const {
-    for (int first = begin; first < end; first += kLanes) batch(first, end, dt_min);
+  KOKKOS_INLINE_FUNCTION void chunk(const int begin, const int end, FeStepSums& acc) const {
+    for (int first = begin; first < end; first += kLanes) batch(first, end, acc);
   }
 
   // The batch of active positions [first, min(first + kLanes, end)).
-  KOKKOS_INLINE_FUNCTION void batch(const int first, const int end, double& dt_min) const {
+  KOKKOS_INLINE_FUNCTION void batch(const int first, const int end, FeStepSums& acc) const {
     if constexpr (kLanes > 1) {
       if (first + kLanes <= end) {
         const int material = elements.material(elements.active(first));
@@ -142,18 +179,18 @@ struct FeForces {
         for (int l = 1; l < kLanes; ++l)
           uniform = uniform && elements.material(elements.active(first + l)) == material;
         if (uniform) {
-          element<LaneDouble>(first, dt_min);
+          element<LaneDouble>(first, acc);
           return;
         }
       }
     }
     const int last = min_(first + kLanes, end);
-    for (int i = first; i < last; ++i) element<double>(i, dt_min);
+    for (int i = first; i < last; ++i) element<double>(i, acc);
   }
 
   // Active elements [first, first + L), L = LaneCount<T>, all of one material.
   template <class T>
-  KOKKOS_INLINE_FUNCTION void element(const int first, double& dt_min) const {
+  KOKKOS_INLINE_FUNCTION void element(const int first, FeStepSums& acc) const {
     constexpr int L = LaneCount<T>::value;
     int e[L], node[4][L];
     for (int l = 0; l < L; ++l) {
@@ -175,6 +212,7 @@ struct FeForces {
       fx[a] = fy[a] = splat<T>(0.0);
     }
     T plastic = splat<T>(0.0), viscous = plastic, strain_work = plastic, area = plastic;
+    T hourglass = plastic;
     T div_rate = plastic, dt_element = splat<T>(1e300);
     auto inverted = !all_lanes<T>(), convert = inverted;
 
@@ -322,7 +360,7 @@ struct FeForces {
         const T gx_old = load_lanes<T>(gx_column, e, consecutive);
         const T gy_old = load_lanes<T>(gy_column, e, consecutive);
         const T work = 0.5 * ((gx_old + gx) * qdot_x + (gy_old + gy) * qdot_y) * p.dt;
-        add_lanes(work, elements.hourglass_work.data(), e, consecutive);
+        hourglass += work;
         store_lanes(gx, gx_column, e, consecutive);
         store_lanes(gy, gy_column, e, consecutive);
         for (int a = 0; a < 4; ++a) {
@@ -356,9 +394,9 @@ struct FeForces {
                                   : splat<T>(0.0);
       dt_element = len / (qs + sqrt_(qs * qs + c * c));
     }
-    add_lanes(plastic, elements.plastic_work.data(), e, consecutive);
-    add_lanes(strain_work, elements.strain_work.data(), e, consecutive);
-    add_lanes(viscous, elements.viscous_work.data(), e, consecutive);
+    // Recoverable energy = stress work - plastic dissipation, both integrated per step (a state
+    // function 1/2 s:C^-1:s V would drift against the nodal work as V changes).
+    add_lanes(strain_work - plastic, elements.recoverable_work.data(), e, consecutive);
     // Element by element in lane order, so a node shared by two lanes sums them in element order.
     for (int l = 0; l < L; ++l)
       for (int a = 0; a < 4; ++a) {
@@ -367,8 +405,11 @@ struct FeForces {
       }
     for (int l = 0; l < L; ++l) {
       const double dt_e = get_lane(dt_element, l);
-      dt_min = dt_min < dt_e ? dt_min : dt_e;
-      if (get_lane(inverted, l)) dt_min = -1.0;  // signals an inverted element to the host
+      acc.dt_min = acc.dt_min < dt_e ? acc.dt_min : dt_e;
+      if (get_lane(inverted, l)) acc.dt_min = -1.0;  // signals an inverted element to the host
+      acc.plastic += get_lane(plastic, l);
+      acc.hourglass += get_lane(hourglass, l);
+      acc.viscous += get_lane(viscous, l);
       if (get_lane(convert, l) && criterion.adaptive(e[l])) {
         // Counts the flags; the first conversion_candidates.extent(0) keep their active index.
         const int slot = Kokkos::atomic_fetch_add(&conversion_pending(), 1);
@@ -382,34 +423,33 @@ struct FeForces {
 };
 
 // Launches the element kernel, which adds the element forces to nodes.f; returns the smallest
-// element stable step (s, before the safety factor), or a negative value if an element has
-// inverted. With conversion_pending given, the kernel also counts in it the elements (of
-// criterion's adaptive set) that may have reached their conversion criterion (a superset of those
-// that have), and writes the active indices of the first ones into conversion_candidates (as many
-// as it holds; compact_candidates in conversion.hpp). Without a usable elements.scatter (the
-// plan of the active list: update_scatter_plan) the forces are added atomically.
+// element stable step and the step's dissipation (FeStepSums). With conversion_pending given,
+// the kernel also counts in it the elements (of criterion's adaptive set) that may have reached
+// their conversion criterion (a superset of those that have), and writes the active indices of
+// the first ones into conversion_candidates (as many as it holds; compact_candidates in
+// conversion.hpp). Without a usable elements.scatter (the plan of the active list:
+// update_scatter_plan) the forces are added atomically.
 template <int QP>
-inline double launch_fe_forces(const char* name, const FeForces<QP>& kernel) {
-  double dt_min = 1e300;
+inline FeStepSums launch_fe_forces(const char* name, const FeForces<QP>& kernel) {
   const Elements& elements = kernel.elements;
   if (elements.scatter.usable(elements.active_count)) {
     FeForces<QP> k = kernel;
     k.atomic = false;
-    return for_each_chunk<Kokkos::Min>(name, elements.scatter, k, dt_min,
-                                       [](double a, double b) { return a < b ? a : b; });
+    return for_each_chunk<FeStepReducer>(name, elements.scatter, k);
   }
+  FeStepSums sums;
   const auto policy =
       Kokkos::RangePolicy<ExecSpace>(0, FeForces<QP>::batches(elements.active_count));
-  Kokkos::parallel_reduce(name, policy, kernel, Kokkos::Min<double>(dt_min));
-  return dt_min;
+  Kokkos::parallel_reduce(name, policy, kernel, FeStepReducer(sums));
+  return sums;
 }
 
-inline double compute_fe_forces(const Nodes& nodes, const Elements& elements,
-                                const View<const MaterialLaw*>& materials, const FeParams& p,
-                                const ConversionCriterion& criterion = {},
-                                const View<int>& conversion_pending = {},
-                                const View<int*>& conversion_candidates = {}) {
-  if (elements.active_count == 0) return 1e300;
+inline FeStepSums compute_fe_forces(const Nodes& nodes, const Elements& elements,
+                                    const View<const MaterialLaw*>& materials, const FeParams& p,
+                                    const ConversionCriterion& criterion = {},
+                                    const View<int>& conversion_pending = {},
+                                    const View<int*>& conversion_candidates = {}) {
+  if (elements.active_count == 0) return FeStepSums();
   if (elements.qp_per_element == 1)
     return launch_fe_forces("fracta::fe_forces",
                             FeForces<1>{nodes, elements, materials, p, criterion,

@@ -126,13 +126,15 @@ void build_scatter_plan(ScatterPlan& plan, int count, const NodeRange& node_rang
 }
 
 // Runs chunk_work.chunk(begin, end, value) over every chunk of the plan, colour by colour (one
-// parallel_reduce each, with Reducer: Kokkos::Sum<Value>, Kokkos::Min<Value>, ...), and returns
-// the colours' results joined by join(a, b) on the host, starting from `init`.
-// ChunkWork: KOKKOS_INLINE_FUNCTION void chunk(int begin, int end, Value& v) const.
-template <template <class...> class Reducer, class Value, class ChunkWork, class Join>
-Value for_each_chunk(const char* name, const ScatterPlan& plan, const ChunkWork& chunk_work,
-                     Value init, const Join& join) {
-  Value total = init;
+// parallel_reduce each, with the Kokkos reducer Reducer: Kokkos::Sum<V>, Kokkos::Min<V>, or one
+// of the project's), and returns the colours' results joined on the host by Reducer::join.
+// ChunkWork: KOKKOS_INLINE_FUNCTION void chunk(int begin, int end, value_type& v) const.
+template <class Reducer, class ChunkWork>
+typename Reducer::value_type for_each_chunk(const char* name, const ScatterPlan& plan,
+                                            const ChunkWork& chunk_work) {
+  using Value = typename Reducer::value_type;
+  Value total;
+  Reducer(total).init(total);
   const auto chunks = plan.color_chunks;
   const ScatterPlan p = plan;
   for (int k = 0; k < plan.colors; ++k) {
@@ -144,8 +146,8 @@ Value for_each_chunk(const char* name, const ScatterPlan& plan, const ChunkWork&
           const int c = chunks(first + i);
           chunk_work.chunk(p.chunk_begin(c), p.chunk_end(c), v);
         },
-        Reducer<Value>(part));
-    total = join(total, part);
+        Reducer(part));
+    Reducer(total).join(total, part);
   }
   return total;
 }

@@ -135,10 +135,10 @@ struct Elements {
   // Per element.
   ColumnView<double* [2]> hourglass_disp;   // stiffness-form hourglass generalized displacement (m)
   ColumnView<double* [2]> hourglass_force;  // last generalized hourglass force (N)
-  View<double*> strain_work;                // cumulative stress work (J): internal + plastic
-  View<double*> plastic_work;               // cumulative (J)
-  View<double*> hourglass_work;             // cumulative (J)
-  View<double*> viscous_work;               // cumulative bulk-viscosity work (J)
+  // Cumulative stress work less plastic dissipation (J): the energy the element holds, which the
+  // conversion hands to the bonds. The dissipation (plastic, hourglass, bulk viscosity) is
+  // summed per step over all elements (FeStepSums), not kept per element.
+  View<double*> recoverable_work;
   // Nodal forces without atomics on CPUs: the chunks of the active list, coloured so that no
   // two chunks of a colour share a node (kernels/scatter.hpp; update_scatter_plan after every
   // change of `active`). The fixed chunks make the FE forces independent of the thread count.

@@ -58,7 +58,7 @@ PatchResult run_patch(Formulation f, int qp, const double L[2][2], const double 
   FeParams p = m.fe;
   p.dt = 1e-7;
   distort_and_set_velocity(m, 0.2, L, v0, theta, p.dt);
-  const double dt_bound = compute_fe_forces(m.nodes, m.elements, m.materials, p);
+  const double dt_bound = compute_fe_forces(m.nodes, m.elements, m.materials, p).dt_min;
   EXPECT_GT(dt_bound, 0.0);
   p.hourglass_stiffness = 0;
   Kokkos::deep_copy(m.nodes.f, 0.0);  // second pass with the viscous form: forces only
@@ -236,7 +236,7 @@ TEST(FeForces, StiffnessHourglassControlStoresModeEnergy) {
 // active and with every fifth one removed from the active list (scattered batches). Tolerance:
 // 1e-12 of each field's largest value (the two paths may contract a*b+c into FMA differently).
 struct LanePathResult {
-  std::vector<double> stress, epeq, node_force, work;
+  std::vector<double> stress, epeq, node_force, work, dissipation;
   double dt = 0;
   int flagged = 0;
   int yielded = 0;
@@ -293,19 +293,19 @@ LanePathResult run_lane_path(MaterialModel model, Formulation f, int qp, bool mi
   View<int> pending("pending");
   View<int*> candidates("candidates", 1024);
   LanePathResult r;
+  FeStepSums sums;
   for (int pass = 0; pass < 2; ++pass) {
     Kokkos::deep_copy(m.nodes.f, 0.0);  // the node forces of the second pass
-    r.dt = compute_fe_forces(m.nodes, m.elements, m.materials, p, criterion, pending, candidates);
+    sums = compute_fe_forces(m.nodes, m.elements, m.materials, p, criterion, pending, candidates);
   }
+  r.dt = sums.dt_min;
+  r.dissipation = {sums.plastic, sums.hourglass, sums.viscous};
   auto hp = Kokkos::create_mirror_view_and_copy(HostSpace(), pending);
   r.flagged = hp();
   auto s = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.stress);
   auto ep = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.epeq);
   auto nf = Kokkos::create_mirror_view_and_copy(HostSpace(), m.nodes.f);
-  auto pw = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.plastic_work);
-  auto sw = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.strain_work);
-  auto vw = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.viscous_work);
-  auto hw = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.hourglass_work);
+  auto rw = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.recoverable_work);
   for (size_t q = 0; q < s.extent(0); ++q) {
     for (int k = 0; k < 4; ++k) r.stress.push_back(s(q, k));
     r.epeq.push_back(ep(q));
@@ -313,8 +313,7 @@ LanePathResult run_lane_path(MaterialModel model, Formulation f, int qp, bool mi
   }
   for (size_t n = 0; n < nf.extent(0); ++n)
     for (int d = 0; d < 2; ++d) r.node_force.push_back(nf(n, d));
-  for (size_t e = 0; e < pw.extent(0); ++e)
-    for (double w : {pw(e), sw(e), vw(e), hw(e)}) r.work.push_back(w);
+  for (size_t e = 0; e < rw.extent(0); ++e) r.work.push_back(rw(e));
   return r;
 }
 
@@ -343,6 +342,7 @@ TEST(FeForces, SimdBatchesMatchElementByElement) {
           EXPECT_LT(max_relative_difference(batched.epeq, single.epeq), 1e-12);
           EXPECT_LT(max_relative_difference(batched.node_force, single.node_force), 1e-12);
           EXPECT_LT(max_relative_difference(batched.work, single.work), 1e-12);
+          EXPECT_LT(max_relative_difference(batched.dissipation, single.dissipation), 1e-12);
           EXPECT_NEAR(batched.dt, single.dt, 1e-12 * single.dt);
           EXPECT_EQ(batched.flagged, single.flagged);
           EXPECT_EQ(batched.yielded, single.yielded);

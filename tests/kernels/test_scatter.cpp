@@ -146,7 +146,7 @@ TEST(Scatter, ChunkedElementForcesEqualAtomicOnes) {
     Kokkos::deep_copy(m.elements.epeq, epeq0);
     Kokkos::deep_copy(m.elements.hourglass_disp, q0);
     Kokkos::deep_copy(m.nodes.f, 0.0);
-    dts.push_back(compute_fe_forces(m.nodes, path == 0 ? chunked : atomic, m.materials, p));
+    dts.push_back(compute_fe_forces(m.nodes, path == 0 ? chunked : atomic, m.materials, p).dt_min);
     const auto f = Kokkos::create_mirror_view_and_copy(HostSpace(), m.nodes.f);
     for (int n = 0; n < m.nodes.count; ++n)
       for (int d = 0; d < 2; ++d) forces[path].push_back(f(n, d));
