@@ -10,6 +10,7 @@
 #                    2-core comparator when OPENMP is not available
 #
 # env: LMP (lmp binary), WORK (scratch dir for data/logs), REPS, LOADMAX,
+#      BUSYMAX (max CPU busy % over 2 s before a run),
 #      LOADWAIT (max s to wait for low load), SIZES ("N:steps N:steps")
 set -u
 HERE="$(cd "$(dirname "$0")" && pwd)"
@@ -18,13 +19,14 @@ LMP="${LMP:-lmp}"
 WORK="${WORK:-/tmp/fracta_lammps_bonds}"
 REPS="${REPS:-3}"
 LOADMAX="${LOADMAX:-0.5}"
-LOADWAIT="${LOADWAIT:-300}"
+LOADWAIT="${LOADWAIT:-900}"
+BUSYMAX="${BUSYMAX:-10}"
 SIZES="${SIZES:-316:2000 1000:200}"
 H=1e-3
 COMMCUT=3e-3
 mkdir -p "$WORK" "$RES"
 RAW="$WORK/raw.csv"
-echo "config,atoms,bonds,steps,ranks,threads,rep,load1_before,busy_pct_before,waited_s,loop_s,bond_s_max,bond_s_avg,modify_s,Mbs_bond,Mbs_loop,log" > "$RAW"
+echo "config,atoms,bonds,steps,ranks,threads,rep,load1_before,busy_pct_before,waited_s,loop_s,bond_s_max,bond_s_avg,modify_s,lmp_cpu_pct,Mbs_bond,Mbs_loop,log" > "$RAW"
 
 HAS_OMP=0
 if "$LMP" -h 2>/dev/null | sed -n '/Installed packages:/,/List of individual/p' | grep -qw OPENMP; then HAS_OMP=1; fi
@@ -40,10 +42,13 @@ busy_pct() {  # whole-machine CPU busy % over 2 s (/proc/stat)
   echo $(( t > 0 ? 100 * (t - i) / t : 0 ))
 }
 
-wait_load() {  # wait until 1-min load <= LOADMAX (max LOADWAIT s)
+wait_load() {  # wait until 1-min load <= LOADMAX and CPU busy < BUSYMAX % (max LOADWAIT s)
   local w=0
-  while awk -v m="$LOADMAX" '{exit !($1 > m)}' /proc/loadavg && [ $w -lt "$LOADWAIT" ]; do
-    sleep 20; w=$((w + 20))
+  while :; do
+    BUSY=$(busy_pct); w=$((w + 2))
+    if awk -v m="$LOADMAX" '{exit !($1 <= m)}' /proc/loadavg && [ "$BUSY" -lt "$BUSYMAX" ]; then break; fi
+    [ $w -ge "$LOADWAIT" ] && break
+    sleep 10; w=$((w + 10))
   done
   WAITED=$w
 }
@@ -53,7 +58,7 @@ run_one() {  # config ranks threads data steps atoms bonds rep
   local log="$WORK/${cfg}_a${atoms}_r${rep}.log"
   wait_load
   local load1; load1=$(cut -d' ' -f1 /proc/loadavg)
-  local busy; busy=$(busy_pct)
+  local busy=$BUSY
   local args=(-in "$HERE/in.bonds" -var data "$data" -var nsteps "$steps" -var h $H
               -var commcut $COMMCUT -log "$log" -screen none)
   case $cfg in
@@ -73,9 +78,10 @@ def row(name):
     return float(m.group(1)), float(m.group(2)), float(m.group(3))
 _, bavg, bmax = row("Bond")
 _, mavg, _ = row("Modify")
+cpu = re.search(r"([\d.]+)% CPU use", t).group(1)  # LAMMPS' own CPU-use figure
 b, s = int(bonds), int(steps)
 print(",".join(map(str, [cfg, atoms, bonds, steps, np, nt, rep, load1, busy, waited,
-      f"{loop:.4f}", f"{bmax:.4f}", f"{bavg:.4f}", f"{mavg:.4f}",
+      f"{loop:.4f}", f"{bmax:.4f}", f"{bavg:.4f}", f"{mavg:.4f}", cpu,
       f"{b*s/bmax/1e6:.1f}", f"{b*s/loop/1e6:.1f}", log])))
 PY
   tail -1 "$RAW"
@@ -103,11 +109,12 @@ rows = list(csv.DictReader(open(sys.argv[1])))
 print("LAMMPS bond-kernel reference (bench/lammps_bonds/run.sh)")
 print(f"lmp: {sys.argv[3].strip()}   OPENMP package: {'yes' if sys.argv[2]=='1' else 'NO (no /omp styles)'}")
 print(f"host: {platform.node()}  cores: 2   lattice: N x N, edges + both diagonals, bond_style harmonic, pair_style none, fix nve")
+print("load1/busy% = 1-min loadavg / whole-machine CPU busy over 2 s just before the run; cpu% = LAMMPS' own '% CPU use'")
 print("Mbs_bond = bonds*steps/Bond time (max over ranks); Mbs_loop = bonds*steps/Loop time; M bond-steps/s\n")
-hdr = f"{'config':<11}{'atoms':>9}{'bonds':>9}{'steps':>6}{'rk':>3}{'th':>3}{'rep':>4}{'load1':>6}{'busy%':>6}{'loop_s':>8}{'bond_s':>8}{'Mbs_bond':>9}{'Mbs_loop':>9}"
+hdr = f"{'config':<11}{'atoms':>9}{'bonds':>9}{'steps':>6}{'rk':>3}{'th':>3}{'rep':>4}{'load1':>6}{'busy%':>6}{'cpu%':>6}{'loop_s':>8}{'bond_s':>8}{'Mbs_bond':>9}{'Mbs_loop':>9}"
 print(hdr); print("-" * len(hdr))
 for r in rows:
-    print(f"{r['config']:<11}{r['atoms']:>9}{r['bonds']:>9}{r['steps']:>6}{r['ranks']:>3}{r['threads']:>3}{r['rep']:>4}{r['load1_before']:>6}{r['busy_pct_before']:>6}{float(r['loop_s']):>8.3f}{float(r['bond_s_max']):>8.3f}{float(r['Mbs_bond']):>9.1f}{float(r['Mbs_loop']):>9.1f}")
+    print(f"{r['config']:<11}{r['atoms']:>9}{r['bonds']:>9}{r['steps']:>6}{r['ranks']:>3}{r['threads']:>3}{r['rep']:>4}{r['load1_before']:>6}{r['busy_pct_before']:>6}{r['lmp_cpu_pct']:>6}{float(r['loop_s']):>8.3f}{float(r['bond_s_max']):>8.3f}{float(r['Mbs_bond']):>9.1f}{float(r['Mbs_loop']):>9.1f}")
 print("\nSummary: best (range) over repetitions, M bond-steps/s")
 g = collections.OrderedDict()
 for r in rows: g.setdefault((r['config'], r['atoms'], r['bonds'], r['ranks'], r['threads']), []).append(r)

@@ -245,6 +245,7 @@ struct CheckpointIO {
   }
 
   static void write(Simulation& s, hid_t file) {
+    s.finish_kick();
     StateViews live = s.state_views();
     H5Handle state(H5Gcreate2(file, "state", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
                    "checkpoint: cannot create /state");

@@ -199,12 +199,16 @@ double Simulation::evaluate_forces(double dt) {
 }
 
 void Simulation::convert() {
+  int pending = 0;
+  {
+    ProfilingRegion region("fracta::conversion");
+    Kokkos::deep_copy(pending, conversion_pending_);
+    conversions_this_step_ = 0;
+  }
+  if (!pending) return;  // no element met its criterion in the force evaluations since last time
+  finish_kick();         // the conversion works on the full step (velocities, energies)
   ProfilingRegion region("fracta::conversion");
   Model& m = model_;
-  int pending = 0;
-  Kokkos::deep_copy(pending, conversion_pending_);
-  conversions_this_step_ = 0;
-  if (!pending) return;  // no element met its criterion in the force evaluations since last time
   Kokkos::deep_copy(conversion_pending_, 0);
   // Few flagged: check just those (compact_candidates); many: the sweep (compact_converted).
   // Both give the same lists in the same order.
@@ -275,14 +279,23 @@ double Simulation::next_dt() const {
   return dt;
 }
 
-void Simulation::step() {
+void Simulation::finish_kick() {
+  if (!kick_pending_) return;
+  ProfilingRegion integrate("fracta::integrate");
+  external_work_ += kick(model_.nodes, last_dt_);
+  kick_pending_ = false;
+}
+
+void Simulation::step(bool defer_kick) {
   if (failed()) return;
   const Case& c = model_.scene;
   Model& m = model_;
   ProfilingRegion region("fracta::step");
   {
     ProfilingRegion integrate("fracta::integrate");
-    external_work_ += kick_drift(m.nodes, dt_);
+    external_work_ +=
+        kick_pending_ ? kick_kick_drift(m.nodes, last_dt_, dt_) : kick_drift(m.nodes, dt_);
+    kick_pending_ = false;
   }
   for (RigidBody& b : m.rigid) {
     project_rigid(b, m.nodes);
@@ -292,7 +305,10 @@ void Simulation::step() {
   time_ += dt_;
   apply_loads(m.nodes, m.tables, m.pressure_edges, m.nodal_forces, c.sim.thickness, time_);
   dt_bound_ = evaluate_forces(dt_);
-  {
+  last_dt_ = dt_;
+  if (defer_kick && m.rigid.empty()) {
+    kick_pending_ = true;
+  } else {
     ProfilingRegion integrate("fracta::integrate");
     external_work_ += kick(m.nodes, dt_);
   }
@@ -312,6 +328,7 @@ void Simulation::step() {
 }
 
 HistoryRecord Simulation::history() {
+  finish_kick();
   HistoryRecord r;
   r.time = time_;
   r.dt = dt_;
@@ -364,6 +381,7 @@ HistoryRecord Simulation::history() {
 }
 
 std::vector<ProbeRecord> Simulation::probe_records() {
+  finish_kick();
   const auto& sites = model_.probes;
   std::vector<ProbeRecord> out(sites.size());
   if (sites.empty()) return out;
@@ -391,6 +409,7 @@ std::vector<ProbeRecord> Simulation::probe_records() {
 }
 
 std::vector<BodyProbeRecord> Simulation::body_probe_records() {
+  finish_kick();
   std::vector<BodyProbeRecord> out;
   for (const auto& bp : model_.body_probes) {
     const Sums<5> s = body_sums(model_.nodes, bp.node_begin, bp.node_end);
@@ -401,6 +420,7 @@ std::vector<BodyProbeRecord> Simulation::body_probe_records() {
 }
 
 FrameData Simulation::frame(const std::vector<std::string>& fields) {
+  finish_kick();
   FrameData f;
   f.time = time_;
   f.step = steps_;
@@ -487,6 +507,7 @@ StateViews Simulation::state_views() {
 }
 
 void Simulation::save_snapshot() {
+  finish_kick();
   const bool first = snapshot_.steps < 0;
   StateViews live = state_views();
   if (first) snapshot_.views = live;
@@ -519,6 +540,7 @@ void Simulation::save_snapshot() {
 }
 
 void Simulation::restore_snapshot() {
+  kick_pending_ = false;  // the snapshot holds a full step
   StateViews live = state_views();
   for_each_state_view(live, snapshot_.views, [](const char*, const auto& to, const auto& saved) {
     Kokkos::deep_copy(to, saved);
@@ -655,7 +677,7 @@ int run_case(const Case& c, const RunOptions& opt) {
   };
 
   while (sim.time() < end - eps && !sim.failed()) {
-    sim.step();
+    sim.step(/*defer_kick=*/true);  // history, frames, snapshots and checkpoints finish it
     if (sim.failed()) break;
     const bool at_end = sim.time() >= end - eps;
     if (history_every <= 0 || sim.time() >= next_history - eps || at_end) {

@@ -17,7 +17,12 @@ class Simulation {
   // for a fixed dt above the stable bound (unless simulation.allow_unstable_dt).
   explicit Simulation(const Case& c);
 
-  void step();
+  // One step. With defer_kick, the step's second half kick is left pending and done together
+  // with the next step's first (one pass over the nodes instead of two): the velocities are
+  // then half-step ones until finish_kick(), which every accessor of the state below calls
+  // first. Rigid bodies project between the two halves, so with rigid bodies it never defers.
+  void step(bool defer_kick = false);
+  void finish_kick();
   bool failed() const { return !failure_.empty(); }
   const std::string& failure() const { return failure_; }
 
@@ -59,6 +64,8 @@ class Simulation {
   // Work the elements dissipated since t = 0 (J), summed per step (FeStepSums).
   double element_plastic_work_ = 0.0, hourglass_work_ = 0.0, viscous_work_ = 0.0;
   long conversions_ = 0, conversions_this_step_ = 0;
+  bool kick_pending_ = false;  // step(true) left its second half kick (of last_dt_) to do
+  double last_dt_ = 0.0;       // the last step's dt (s)
   std::string failure_;
   View<int*> probe_node_, probe_element_;
   View<double* [7]> probe_values_;
