@@ -188,6 +188,16 @@ struct FeForces {
     for (int i = first; i < last; ++i) element<double>(i, acc);
   }
 
+  // The corners of the batch lie along one row of a structured mesh (see element).
+  template <int L>
+  KOKKOS_INLINE_FUNCTION static bool structured_row(const int (&node)[4][L]) {
+    bool row = true;
+    for (int l = 0; l < L; ++l)
+      row = row && node[0][l] == node[0][0] + l && node[1][l] == node[0][l] + 1 &&
+            node[3][l] == node[3][0] + l && node[2][l] == node[3][l] + 1;
+    return row;
+  }
+
   // Active elements [first, first + L), L = LaneCount<T>, all of one material.
   template <class T>
   KOKKOS_INLINE_FUNCTION void element(const int first, FeStepSums& acc) const {
@@ -204,12 +214,27 @@ struct FeForces {
     // Coordinate d of node n at &x(0, d) + n * stride_0 (2 in LayoutRight, the CPU default).
     const int x_stride = static_cast<int>(nodes.x.stride_0());
     const int v_stride = static_cast<int>(nodes.v.stride_0());
+    // A batch along one row of a structured mesh: corner 0 of lane l at node n0 + l, corner 1 at
+    // n0 + l + 1, corner 3 at m0 + l, corner 2 at m0 + l + 1 (counter-clockwise). Its node data
+    // then comes by vector loads (load_pairs) instead of gathers, and its forces go by two vector
+    // adds per row of nodes instead of 64 scalar ones.
+    const bool row = L > 1 && x_stride == 2 && v_stride == 2 && nodes.f.stride_0() == 2 &&
+                     structured_row<L>(node);
     for (int a = 0; a < 4; ++a) {
+      fx[a] = fy[a] = splat<T>(0.0);
+#ifdef FRACTA_HOST_SIMD
+      if constexpr (L > 1) {
+        if (row) {
+          load_pairs(&nodes.x(0, 0) + 2 * node[a][0], x[a], y[a]);
+          load_pairs(&nodes.v(0, 0) + 2 * node[a][0], vx[a], vy[a]);
+          continue;
+        }
+      }
+#endif
       x[a] = gather_lanes<T>(&nodes.x(0, 0), node[a], x_stride);
       y[a] = gather_lanes<T>(&nodes.x(0, 1), node[a], x_stride);
       vx[a] = gather_lanes<T>(&nodes.v(0, 0), node[a], v_stride);
       vy[a] = gather_lanes<T>(&nodes.v(0, 1), node[a], v_stride);
-      fx[a] = fy[a] = splat<T>(0.0);
     }
     T plastic = splat<T>(0.0), viscous = plastic, strain_work = plastic, area = plastic;
     T hourglass = plastic;
@@ -397,8 +422,27 @@ struct FeForces {
     // Recoverable energy = stress work - plastic dissipation, both integrated per step (a state
     // function 1/2 s:C^-1:s V would drift against the nodal work as V changes).
     add_lanes(strain_work - plastic, elements.recoverable_work.data(), e, consecutive);
-    // Element by element in lane order, so a node shared by two lanes sums them in element order.
-    for (int l = 0; l < L; ++l)
+    bool scattered = false;
+#ifdef FRACTA_HOST_SIMD
+    if constexpr (L > 1) {
+      if (row && !atomic) {
+        // Node n0 + l takes corner 0 of lane l and corner 1 of lane l - 1, and n0 + 8 corner 1
+        // of lane 7 (likewise m0 with corners 3 and 2).
+        double* f = nodes.f.data();
+        const int rows[2][3] = {{node[0][0], 0, 1}, {node[3][0], 3, 2}};
+        for (const auto& r : rows) {
+          const int n0 = r[0], a = r[1], b = r[2];
+          add_pairs(f + 2 * n0, fx[a] + shift_up_one_lane(fx[b]), fy[a] + shift_up_one_lane(fy[b]));
+          f[2 * (n0 + L)] += fx[b][L - 1];
+          f[2 * (n0 + L) + 1] += fy[b][L - 1];
+        }
+        scattered = true;
+      }
+    }
+#endif
+    // Otherwise element by element in lane order, so a node shared by two lanes sums them in
+    // element order.
+    for (int l = 0; l < L && !scattered; ++l)
       for (int a = 0; a < 4; ++a) {
         scatter_add(&nodes.f(node[a][l], 0), get_lane(fx[a], l), atomic);
         scatter_add(&nodes.f(node[a][l], 1), get_lane(fy[a], l), atomic);

@@ -155,6 +155,30 @@ inline Double8 sqrt_(Double8 a) {
 #endif
 }
 
+// Eight consecutive (x, y) pairs of an interleaved array (a LayoutRight [n][2] view at node n):
+// x and y each as one vector, from two vector loads and two shuffles (a gather per component
+// would cost far more). And the reverse, added in place.
+inline void load_pairs(const double* pairs, Double8& x, Double8& y) {
+  Double8 lo, hi;
+  __builtin_memcpy(&lo, pairs, sizeof lo);
+  __builtin_memcpy(&hi, pairs + 8, sizeof hi);
+  x = __builtin_shuffle(lo, hi, Mask8{0, 2, 4, 6, 8, 10, 12, 14});
+  y = __builtin_shuffle(lo, hi, Mask8{1, 3, 5, 7, 9, 11, 13, 15});
+}
+inline void add_pairs(double* pairs, const Double8& x, const Double8& y) {
+  Double8 lo, hi;
+  __builtin_memcpy(&lo, pairs, sizeof lo);
+  __builtin_memcpy(&hi, pairs + 8, sizeof hi);
+  lo += __builtin_shuffle(x, y, Mask8{0, 8, 1, 9, 2, 10, 3, 11});
+  hi += __builtin_shuffle(x, y, Mask8{4, 12, 5, 13, 6, 14, 7, 15});
+  __builtin_memcpy(pairs, &lo, sizeof lo);
+  __builtin_memcpy(pairs + 8, &hi, sizeof hi);
+}
+// Lane l of the result is lane l - 1 of v; lane 0 is 0.
+inline Double8 shift_up_one_lane(const Double8& v) {
+  return __builtin_shuffle(v, Double8{}, Mask8{8, 0, 1, 2, 3, 4, 5, 6});
+}
+
 // Elements per work item of the element kernel on this build.
 inline constexpr int kLanes = 8;
 using LaneDouble = Double8;
