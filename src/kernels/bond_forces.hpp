@@ -5,6 +5,7 @@
 #pragma once
 #include "kernels/compat.hpp"
 #include "kernels/conversion.hpp"
+#include "kernels/simd.hpp"
 #include "kernels/state.hpp"
 
 namespace fracta {
@@ -137,10 +138,123 @@ struct BondForces {
   // Atomic path: work item = one list position.
   KOKKOS_INLINE_FUNCTION void operator()(const int k, Sums<3>& acc) const { bond(slot(k), acc); }
 
-  // Chunk path: the list positions [begin, end), in order.
+  // Chunk path: the list positions [begin, end), in order; on CPUs by batches of kLanes bonds
+  // where a batch qualifies (elastic_batch), else bond by bond.
   KOKKOS_INLINE_FUNCTION void chunk(const int begin, const int end, Sums<3>& acc) const {
-    for (int k = begin; k < end; ++k) bond(slot(k), acc);
+    int k = begin;
+#ifdef FRACTA_HOST_SIMD
+    for (; k + kLanes <= end; k += kLanes)
+      if (!elastic_batch(k))
+        for (int l = 0; l < kLanes; ++l) bond(slot(k + l), acc);
+#endif
+    for (; k < end; ++k) bond(slot(k), acc);
   }
+
+#ifdef FRACTA_HOST_SIMD
+  // Eight bonds at once in SIMD lanes (simd.hpp), the common case of a lattice at work: eight
+  // consecutive active slots of one material with elastic springs (no yield stress), none
+  // softening (onset 0, so damage 0) and none reaching its strength this step. The arithmetic
+  // is bond()'s on that path, lane by lane, in the same order. If the batch does not qualify,
+  // or a lane reaches its strength, it returns false before writing anything, and the caller
+  // runs bond() for each (rare: a bond breaks or starts to soften once).
+  bool elastic_batch(const int position) const {
+    using T = Double8;
+    constexpr int L = 8;
+    const int b0 = slot(position);
+    if (slot(position + L - 1) != b0 + L - 1) return false;  // the list increases
+    const int material = bonds.material(b0);
+    for (int l = 0; l < L; ++l)
+      if (bonds.state(b0 + l) != kBondActive || bonds.material(b0 + l) != material) return false;
+    const BondLaw& law = laws(material);
+    if (law.yield_stress > 0.0) return false;
+    const bool cohesive = law.fracture_energy > 0.0;
+    if (cohesive)
+      for (int l = 0; l < L; ++l)
+        if (bonds.onset_separation(b0 + l) != 0.0) return false;
+    int i[L], j[L], c0[L], c1[L];
+    for (int l = 0; l < L; ++l) {
+      i[l] = bonds.nodes(b0 + l, 0);
+      j[l] = bonds.nodes(b0 + l, 1);
+      c0[l] = bonds.cells(b0 + l, 0);
+      c1[l] = bonds.cells(b0 + l, 1);
+    }
+    const int xs = static_cast<int>(nodes.x.stride_0()), vs = static_cast<int>(nodes.v.stride_0());
+    const int x0s = static_cast<int>(nodes.x0.stride_0());
+    const T xi = gather_lanes<T>(&nodes.x(0, 0), i, xs),
+            yi = gather_lanes<T>(&nodes.x(0, 1), i, xs);
+    const T xj = gather_lanes<T>(&nodes.x(0, 0), j, xs),
+            yj = gather_lanes<T>(&nodes.x(0, 1), j, xs);
+    const T dx = xj - xi, dy = yj - yi;
+    const T length = sqrt_(dx * dx + dy * dy);
+    const T nx = dx / length, ny = dy / length;
+    const T ri = gather_lanes<T>(nodes.radius.data(), i, 1);
+    const T rj = gather_lanes<T>(nodes.radius.data(), j, 1);
+    const T li = length * ri / (ri + rj), lj = length * rj / (ri + rj);
+    const bool consecutive = true;
+    int b[L];
+    for (int l = 0; l < L; ++l) b[l] = b0 + l;
+    const T kn = load_lanes<T>(bonds.kn.data(), b, consecutive);
+    const T ks = load_lanes<T>(bonds.ks.data(), b, consecutive);
+    const T area = load_lanes<T>(bonds.area.data(), b, consecutive);
+    const T L0 = load_lanes<T>(bonds.length0.data(), b, consecutive);
+    const T up = load_lanes<T>(bonds.plastic_n.data(), b, consecutive);
+    const T us_p = load_lanes<T>(bonds.plastic_s.data(), b, consecutive);
+    const T fs_old = load_lanes<T>(bonds.fs.data(), b, consecutive);
+    T fn = kn * ((length - L0) - up);  // bilinear_spring without a yield force
+    const T dvt =
+        -(gather_lanes<T>(&nodes.v(0, 0), j, vs) - gather_lanes<T>(&nodes.v(0, 0), i, vs)) * ny +
+        (gather_lanes<T>(&nodes.v(0, 1), j, vs) - gather_lanes<T>(&nodes.v(0, 1), i, vs)) * nx -
+        (li * gather_lanes<T>(nodes.spin.data(), i, 1) +
+         lj * gather_lanes<T>(nodes.spin.data(), j, 1));
+    const T shear_increment = dvt * dt;
+    const T us = fs_old / (1.0 * ks) + us_p + shear_increment;  // (1 - D) = 1
+    T fs = ks > 0.0 ? ks * (us - us_p) : splat<T>(0.0);
+    // The face traction from the intact cells around each bond (bond(): the same sum in the same
+    // order), or the bond's own stresses without one.
+    T s3[3] = {splat<T>(0.0), splat<T>(0.0), splat<T>(0.0)};
+    T cells = splat<T>(0.0);
+    for (const int* c : {c0, c1}) {
+      T in = splat<T>(0.0), st[3] = {in, in, in};
+      for (int l = 0; l < L; ++l) {
+        if (c[l] < 0 || !elements.cell_intact(c[l])) continue;
+        in[l] = 1.0;
+        for (int q = 0; q < 3; ++q) st[q][l] = elements.cell_stress(c[l], q);
+      }
+      for (int q = 0; q < 3; ++q) s3[q] += st[q];
+      cells += in;
+    }
+    const T ux =
+        gather_lanes<T>(&nodes.x0(0, 0), j, x0s) - gather_lanes<T>(&nodes.x0(0, 0), i, x0s);
+    const T uy =
+        gather_lanes<T>(&nodes.x0(0, 1), j, x0s) - gather_lanes<T>(&nodes.x0(0, 1), i, x0s);
+    const T n0x = ux / L0, n0y = uy / L0;
+    const T divisor = cells > 0.0 ? cells : splat<T>(1.0);
+    const T sxx = s3[0] / divisor, syy = s3[1] / divisor, sxy = s3[2] / divisor;
+    const T sigma_cells = sxx * n0x * n0x + syy * n0y * n0y + 2.0 * sxy * n0x * n0y;
+    const T t_cells = -(sxx * n0x + sxy * n0y) * n0y + (sxy * n0x + syy * n0y) * n0x;
+    const T tau_cells = t_cells < 0.0 ? -t_cells : t_cells;
+    const T abs_fs = fs < 0.0 ? -fs : fs;
+    const T sigma_n = cells > 0.0 ? sigma_cells : (area > 0.0 ? fn / area : splat<T>(0.0));
+    const T tau = cells > 0.0 ? tau_cells : (area > 0.0 ? abs_fs / area : splat<T>(0.0));
+    auto reaches = !all_lanes<T>();
+    if (law.tensile_strength > 0.0) reaches = reaches || sigma_n >= law.tensile_strength;
+    if (law.cohesion > 0.0) reaches = reaches || tau >= law.cohesion - sigma_n * law.tan_friction;
+    if (any_lane(reaches)) return false;
+    store_lanes(fn, bonds.fn.data(), b, consecutive);
+    store_lanes(fs, bonds.fs.data(), b, consecutive);
+    const T fx = fn * nx - fs * ny, fy = fn * ny + fs * nx;
+    const T mi = li * fs, mj = lj * fs;
+    for (int l = 0; l < L; ++l) {
+      nodes.f(i[l], 0) += fx[l];
+      nodes.f(i[l], 1) += fy[l];
+      nodes.moment(i[l]) += mi[l];
+      nodes.f(j[l], 0) -= fx[l];
+      nodes.f(j[l], 1) -= fy[l];
+      nodes.moment(j[l]) += mj[l];
+    }
+    return true;
+  }
+#endif
 
   KOKKOS_INLINE_FUNCTION void bond(const int b, Sums<3>& acc) const {
     if (bonds.state(b) != kBondActive) return;

@@ -129,19 +129,14 @@ inline void store_lanes<Double8, 8>(const Double8& v, double* column, const int 
   }
 }
 
+// Lane by lane from scalar loads: on the AMD EPYC (Zen 4) machines here this beats the AVX-512
+// gather instruction (vgatherdpd), which the profile showed stalling the bond batches; measured
+// on the bond phase (1e6 discs, 1 thread): 25 -> 32 M bond-steps/s.
 template <>
 inline Double8 gather_lanes<Double8, 8>(const double* base, const int (&index)[8], int stride) {
-#if defined(__AVX512F__)
-  const __m256i offsets = _mm256_mullo_epi32(
-      _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index)), _mm256_set1_epi32(stride));
-  // Masked form, all lanes: see sqrt_ below.
-  return _mm512_mask_i32gather_pd(_mm512_setzero_pd(), static_cast<__mmask8>(0xFF), offsets, base,
-                                  8);
-#else
   Double8 v;
   for (int l = 0; l < 8; ++l) v[l] = base[index[l] * stride];
   return v;
-#endif
 }
 
 inline Double8 sqrt_(Double8 a) {
