@@ -464,16 +464,22 @@ inline BondStepResult compute_bond_forces(const Nodes& nodes, const Elements& el
   return r;
 }
 
-// The scatter plan of the bond list (kernels/scatter.hpp): after every change of it.
+// The scatter plan of the bond slots (kernels/scatter.hpp), cut once from the slots and located
+// in the bond list after every change of it.
 inline void update_scatter_plan(Bonds& bonds) {
   const auto list = bonds_listed(bonds) ? bonds.used : View<int*>();
+  if (bonds.scatter.universe == bonds.count) {
+    locate_scatter_chunks(bonds.scatter, list, bond_list_count(bonds));
+    return;
+  }
   const auto ends = bonds.nodes;
   build_scatter_plan(
-      bonds.scatter, bond_list_count(bonds), KOKKOS_LAMBDA(const int k, int& lo, int& hi) {
-        const int b = list.extent(0) > 0 ? list(k) : k;
+      bonds.scatter, bonds.count,
+      KOKKOS_LAMBDA(const int b, int& lo, int& hi) {
         lo = min_(ends(b, 0), ends(b, 1));
         hi = max_(ends(b, 0), ends(b, 1));
-      });
+      },
+      list, bond_list_count(bonds));
 }
 
 // Stable step of the bond network (DESIGN.md 1.4): Gershgorin's bound on the largest

@@ -503,19 +503,24 @@ inline FeStepSums compute_fe_forces(const Nodes& nodes, const Elements& elements
                                       conversion_candidates});
 }
 
-// The scatter plan of the active list (kernels/scatter.hpp): after every change of it.
+// The scatter plan of the elements (kernels/scatter.hpp), cut once from the mesh and located in
+// the active list after every change of it.
 inline void update_scatter_plan(Elements& elements) {
-  const auto active = elements.active;
+  if (elements.scatter.universe == elements.count) {
+    locate_scatter_chunks(elements.scatter, elements.active, elements.active_count);
+    return;
+  }
   const auto element_nodes = elements.nodes;
   build_scatter_plan(
-      elements.scatter, elements.active_count, KOKKOS_LAMBDA(const int k, int& lo, int& hi) {
-        const int e = active(k);
+      elements.scatter, elements.count,
+      KOKKOS_LAMBDA(const int e, int& lo, int& hi) {
         lo = hi = element_nodes(e, 0);
         for (int a = 1; a < 4; ++a) {
           lo = min_(lo, element_nodes(e, a));
           hi = max_(hi, element_nodes(e, a));
         }
-      });
+      },
+      elements.active, elements.active_count);
 }
 
 }  // namespace fracta

@@ -42,47 +42,81 @@ KOKKOS_INLINE_FUNCTION void scatter_add(double* target, double value, bool atomi
 
 struct ScatterPlan {
   static constexpr int kMaxColors = 16;
-  // Chunk c holds the list positions [c * chunk_size, min((c + 1) * chunk_size, item_count)).
+  // Chunks cut the items' index space (element or bond slot indices), not the list: chunk c is
+  // the items of index [c * chunk_size, (c + 1) * chunk_size), so its node interval and its
+  // colour never change. A list (increasing indices: Elements::active, Bonds::used) only needs
+  // the position where each chunk starts in it, chunk_begin (locate_scatter_chunks, after every
+  // change of the list: a binary search per chunk).
   int chunk_size = 0;
-  int item_count = -1;  // the list length the plan was built for (-1: no plan)
+  int chunks = 0;
+  int universe = -1;    // the item count the chunks were cut from (-1: no plan)
+  int item_count = -1;  // the list length chunk_begin was located for (-1: none)
   int colors = 0;       // 0: no plan (the kernels then add atomically)
   // The chunks of colour k, increasing in lo: color_chunks[color_offset[k], color_offset[k+1]).
   int color_offset[kMaxColors + 1] = {};
   View<int*> color_chunks;
+  View<int*> chunk_begin_position;  // chunks + 1 entries; the last is item_count
 
   // The plan applies to a list of `count` items (else the kernels take the atomic path).
   bool usable(int count) const { return !kAtomicScatter && colors > 0 && item_count == count; }
 
-  KOKKOS_INLINE_FUNCTION int chunk_begin(int chunk) const { return chunk * chunk_size; }
-  KOKKOS_INLINE_FUNCTION int chunk_end(int chunk) const {
-    return min_(chunk * chunk_size + chunk_size, item_count);
-  }
+  KOKKOS_INLINE_FUNCTION int chunk_begin(int chunk) const { return chunk_begin_position(chunk); }
+  KOKKOS_INLINE_FUNCTION int chunk_end(int chunk) const { return chunk_begin_position(chunk + 1); }
 };
 
-// Chunk size: a multiple of 8 (the SIMD element batches stay aligned), at least 64 items
-// (less and the colour passes cost more than they save), at most 2048 (a chunk's working set
-// stays in the L2 cache), and about count / 64 between (64 chunks: enough for the threads of
-// a CPU to share each colour).
+// Chunk size: at least 64 items (less and the colour passes cost more than they save), at most
+// 2048 (a chunk's working set stays in the L2 cache), and about count / 64 between (64 chunks:
+// enough for the threads of a CPU to share each colour); a multiple of 8.
 inline int scatter_chunk_size(int count) {
   const int target = std::min(2048, std::max(64, count / 64));
   return (target + 7) / 8 * 8;
 }
 
-// Builds the plan for a list of `count` items whose position k touches the nodes in
-// [lo, hi] as `node_range(k, lo, hi)` (a device functor) sets them. Host: it loops over the
-// chunks (about 64 to count / 2048 of them), never over the items.
+// Where each chunk of the plan starts in a list of `count` increasing item indices (`list`;
+// an empty view: the identity, item k at position k).
+inline void locate_scatter_chunks(ScatterPlan& plan, const View<int*>& list, int count) {
+  plan.item_count = -1;
+  if (plan.colors == 0) return;
+  const auto begin = plan.chunk_begin_position;
+  const int size = plan.chunk_size;
+  Kokkos::parallel_for(
+      "fracta::scatter_locate", Kokkos::RangePolicy<ExecSpace>(0, plan.chunks + 1),
+      KOKKOS_LAMBDA(const int c) {
+        const long first_item = static_cast<long>(c) * size;
+        if (list.extent(0) == 0) {
+          begin(c) = static_cast<int>(first_item < count ? first_item : count);
+          return;
+        }
+        int lo = 0, hi = count;  // the first position whose item is >= first_item
+        while (lo < hi) {
+          const int mid = lo + (hi - lo) / 2;
+          if (list(mid) < first_item)
+            lo = mid + 1;
+          else
+            hi = mid;
+        }
+        begin(c) = lo;
+      });
+  plan.item_count = count;
+}
+
+// Builds the plan for `universe` items whose item i touches the nodes in [lo, hi] as
+// `node_range(i, lo, hi)` (a device functor) sets them, and locates it for `list` (see
+// locate_scatter_chunks). Host: it loops over the chunks (about 64 to universe / 2048 of
+// them), never over the items.
 template <class NodeRange>
-void build_scatter_plan(ScatterPlan& plan, int count, const NodeRange& node_range) {
+void build_scatter_plan(ScatterPlan& plan, int universe, const NodeRange& node_range,
+                        const View<int*>& list, int count) {
   plan = ScatterPlan{};
-  if (kAtomicScatter || count <= 0) return;
-  const int size = scatter_chunk_size(count);
-  const int chunks = (count + size - 1) / size;
+  if (kAtomicScatter || universe <= 0) return;
+  const int size = scatter_chunk_size(universe);
+  const int chunks = (universe + size - 1) / size;
   View<int* [2]> interval("fracta::scatter_intervals", chunks);
   Kokkos::parallel_for(
       "fracta::scatter_intervals", Kokkos::RangePolicy<ExecSpace>(0, chunks),
       KOKKOS_LAMBDA(const int c) {
         int lo = 2147483647, hi = -1;
-        const int end = min_(c * size + size, count);
+        const int end = min_(c * size + size, universe);
         for (int k = c * size; k < end; ++k) {
           int a, b;
           node_range(k, a, b);
@@ -120,12 +154,16 @@ void build_scatter_plan(ScatterPlan& plan, int count, const NodeRange& node_rang
   const auto mirror = Kokkos::create_mirror_view(plan.color_chunks);
   for (int i = 0; i < chunks; ++i) mirror(i) = grouped[i];
   Kokkos::deep_copy(plan.color_chunks, mirror);
+  plan.chunk_begin_position = View<int*>("fracta::scatter_chunk_begin", chunks + 1);
   plan.chunk_size = size;
-  plan.item_count = count;
+  plan.chunks = chunks;
+  plan.universe = universe;
   plan.colors = colors;
+  locate_scatter_chunks(plan, list, count);
 }
 
-// Runs chunk_work.chunk(begin, end, value) over every chunk of the plan, colour by colour (one
+// Runs chunk_work.chunk(begin, end, value) over every chunk of the plan (its list positions
+// [begin, end)), colour by colour (one
 // parallel_reduce each, with the Kokkos reducer Reducer: Kokkos::Sum<V>, Kokkos::Min<V>, or one
 // of the project's), and returns the colours' results joined on the host by Reducer::join.
 // ChunkWork: KOKKOS_INLINE_FUNCTION void chunk(int begin, int end, value_type& v) const.

@@ -16,11 +16,14 @@
 namespace fracta {
 namespace {
 
-// Checks the plan against the nodes each list position really touches (item_nodes(k)).
+// Checks the plan against the nodes each list position really touches (item_nodes(k)). With
+// `optimal`, the list is every item in order, and first fit must use as many colours as the
+// deepest overlap of the chunks' node intervals (optimal for intervals).
 void expect_valid_plan(const ScatterPlan& plan, int count,
-                       const std::vector<std::vector<int>>& item_nodes) {
+                       const std::vector<std::vector<int>>& item_nodes, bool optimal) {
   ASSERT_TRUE(plan.usable(count));
   const auto chunks = Kokkos::create_mirror_view_and_copy(HostSpace(), plan.color_chunks);
+  const auto begin = Kokkos::create_mirror_view_and_copy(HostSpace(), plan.chunk_begin_position);
   std::vector<int> seen(count, 0);
   std::vector<std::pair<int, int>> intervals;  // per chunk
   for (int k = 0; k < plan.colors; ++k) {
@@ -29,7 +32,7 @@ void expect_valid_plan(const ScatterPlan& plan, int count,
       const int c = chunks(i);
       std::set<int> chunk_nodes;
       int lo = 1 << 30, hi = -1;
-      for (int p = plan.chunk_begin(c); p < plan.chunk_end(c); ++p) {
+      for (int p = begin(c); p < begin(c + 1); ++p) {
         ++seen[p];
         for (int n : item_nodes[p]) {
           chunk_nodes.insert(n);
@@ -40,12 +43,12 @@ void expect_valid_plan(const ScatterPlan& plan, int count,
       for (int n : chunk_nodes)
         EXPECT_EQ(colour_nodes.count(n), 0u) << "colour " << k << " node " << n;
       colour_nodes.insert(chunk_nodes.begin(), chunk_nodes.end());
-      intervals.push_back({lo, hi});
+      if (hi >= 0) intervals.push_back({lo, hi});
     }
   }
   for (int p = 0; p < count; ++p) ASSERT_EQ(seen[p], 1) << "list position " << p;
-  // The deepest overlap of the intervals (a sweep over their ends): first fit in the order of
-  // lo is optimal for intervals, so it uses exactly that many colours.
+  if (!optimal) return;
+  // The deepest overlap of the intervals (a sweep over their ends).
   std::vector<std::pair<int, int>> events;
   for (const auto& iv : intervals) {
     events.push_back({iv.first, +1});
@@ -66,7 +69,7 @@ std::vector<std::vector<int>> active_element_nodes(const Elements& el) {
   return r;
 }
 
-TEST(Scatter, ChunkSizeIsAMultipleOfTheSimdBatch) {
+TEST(Scatter, ChunkSizeIsAMultipleOfEightWithinItsBounds) {
   for (int count : {1, 7, 100, 4096, 50000, 131072, 10000000}) {
     const int size = scatter_chunk_size(count);
     EXPECT_EQ(size % 8, 0) << count;
@@ -78,7 +81,8 @@ TEST(Scatter, ChunkSizeIsAMultipleOfTheSimdBatch) {
 TEST(Scatter, ElementPlanCoversTheActiveListAndColoursShareNoNode) {
   // 150 x 90 cells: 13500 elements, chunks of 208, rows of 151 nodes.
   Model m = build_model(test::rectangle_case(150, 90, 1e-3));
-  expect_valid_plan(m.elements.scatter, m.elements.active_count, active_element_nodes(m.elements));
+  expect_valid_plan(m.elements.scatter, m.elements.active_count, active_element_nodes(m.elements),
+                    true);
   EXPECT_EQ(m.elements.scatter.colors, 2);  // rows shorter than a chunk: two colours
   // A list with holes (every third element gone, as after conversions), rebuilt.
   auto active = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.active);
@@ -88,8 +92,10 @@ TEST(Scatter, ElementPlanCoversTheActiveListAndColoursShareNoNode) {
   m.elements.active_count = n;
   Kokkos::deep_copy(m.elements.active, active);
   EXPECT_FALSE(m.elements.scatter.usable(m.elements.active_count));  // stale: not used
-  update_scatter_plan(m.elements);
-  expect_valid_plan(m.elements.scatter, m.elements.active_count, active_element_nodes(m.elements));
+  update_scatter_plan(m.elements);  // the same chunks and colours, located in the new list
+  EXPECT_EQ(m.elements.scatter.colors, 2);
+  expect_valid_plan(m.elements.scatter, m.elements.active_count, active_element_nodes(m.elements),
+                    false);
 }
 
 TEST(Scatter, BondPlanCoversTheBondListAndColoursShareNoDisc) {
@@ -105,7 +111,7 @@ TEST(Scatter, BondPlanCoversTheBondListAndColoursShareNoDisc) {
     const int b = bonds_listed(m.bonds) ? list(k) : k;
     item_nodes[k] = {ends(b, 0), ends(b, 1)};
   }
-  expect_valid_plan(m.bonds.scatter, count, item_nodes);
+  expect_valid_plan(m.bonds.scatter, count, item_nodes, !bonds_listed(m.bonds));
 }
 
 // The FE forces of a distorted, spinning, yielding block by the chunk path and by the atomic
@@ -192,9 +198,10 @@ TEST(Scatter, ChunkedBondForcesEqualAtomicOnes) {
   EXPECT_LT(diff / moved, 1e-10);
 }
 
-// A list in no spatial order: every chunk spans almost the whole mesh, more colours than the
-// plan allows, so there is no plan and the kernel adds atomically; the forces stay the same.
-TEST(Scatter, ATangledListFallsBackToAtomicAdds) {
+// A mesh numbered in no spatial order (its elements shuffled): every chunk spans almost the
+// whole mesh, more colours than the plan allows, so there is no plan and the kernel adds
+// atomically; the node forces stay those of the ordered mesh (the same elements).
+TEST(Scatter, ATangledMeshFallsBackToAtomicAdds) {
   Model m = build_model(test::rectangle_case(64, 64, 1e-3));
   auto v = Kokkos::create_mirror_view_and_copy(HostSpace(), m.nodes.v);
   for (int n = 0; n < m.nodes.count; ++n)
@@ -202,14 +209,20 @@ TEST(Scatter, ATangledListFallsBackToAtomicAdds) {
   Kokkos::deep_copy(m.nodes.v, v);
   FeParams p = m.fe;
   p.dt = 1e-8;
+  ASSERT_TRUE(m.elements.scatter.usable(m.elements.active_count));
   compute_fe_forces(m.nodes, m.elements, m.materials, p);
   const auto ordered = Kokkos::create_mirror(HostSpace(), m.nodes.f);
   Kokkos::deep_copy(ordered, m.nodes.f);
-  auto active = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.active);
-  const int count = m.elements.active_count;
-  for (int k = 0; k < count; ++k) std::swap(active(k), active((k * 7919L + 13) % count));
-  Kokkos::deep_copy(m.elements.active, active);
-  update_scatter_plan(m.elements);
+  auto connectivity = Kokkos::create_mirror(HostSpace(), m.elements.nodes);
+  Kokkos::deep_copy(connectivity, m.elements.nodes);
+  const int count = m.elements.count;
+  for (int e = 0; e < count; ++e) {
+    const int other = static_cast<int>((e * 7919L + 13) % count);
+    for (int a = 0; a < 4; ++a) std::swap(connectivity(e, a), connectivity(other, a));
+  }
+  Kokkos::deep_copy(m.elements.nodes, connectivity);
+  m.elements.scatter = ScatterPlan{};
+  update_scatter_plan(m.elements);  // cut anew from the shuffled mesh
   EXPECT_FALSE(m.elements.scatter.usable(count));
   EXPECT_EQ(m.elements.scatter.colors, 0);
   Kokkos::deep_copy(m.nodes.f, 0.0);
