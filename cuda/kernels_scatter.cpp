@@ -16,10 +16,13 @@ struct ChunkSum {
 double scatter_kernels(const View<int* [2]>& ends, const View<double*>& values) {
   ScatterPlan plan;
   build_scatter_plan(
-      plan, static_cast<int>(ends.extent(0)), KOKKOS_LAMBDA(const int k, int& lo, int& hi) {
+      plan, static_cast<int>(ends.extent(0)),
+      KOKKOS_LAMBDA(const int k, int& lo, int& hi) {
         lo = ends(k, 0) < ends(k, 1) ? ends(k, 0) : ends(k, 1);
         hi = ends(k, 0) < ends(k, 1) ? ends(k, 1) : ends(k, 0);
-      });
+      },
+      View<int*>(), static_cast<int>(ends.extent(0)));
+  locate_scatter_chunks(plan, View<int*>(), static_cast<int>(ends.extent(0)));
   return for_each_chunk<Kokkos::Sum<double>>("fracta::cuda_check_chunks", plan, ChunkSum{values}) +
          (plan.usable(static_cast<int>(ends.extent(0))) ? 1.0 : 0.0);
 }
