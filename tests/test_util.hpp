@@ -59,6 +59,17 @@ inline Case rectangle_case(int nx, int ny, double h, double E = 200e9, double nu
   return c;
 }
 
+// The largest difference of two equally long series, relative to the first's largest magnitude
+// (the absolute difference if that is 0).
+inline double max_relative_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  double scale = 0.0, diff = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    scale = std::max(scale, std::fabs(a[i]));
+    diff = std::max(diff, std::fabs(a[i] - b[i]));
+  }
+  return scale > 0.0 ? diff / scale : diff;
+}
+
 inline Segment segment(double x0, double y0, double x1, double y1) {
   Segment s;
   s.from = {x0, y0};

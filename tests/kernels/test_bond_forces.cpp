@@ -173,15 +173,6 @@ std::vector<double> host_values(const View<double* [2]>& v) {
   return std::vector<double>(h.data(), h.data() + h.span());
 }
 
-double relative_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  double scale = 0.0, diff = 0.0;
-  for (size_t i = 0; i < a.size(); ++i) {
-    scale = std::max(scale, std::fabs(a[i]));
-    diff = std::max(diff, std::fabs(a[i] - b[i]));
-  }
-  return scale > 0.0 ? diff / scale : diff;
-}
-
 TEST(BondForces, SimdBatchesMatchBondByBond) {
   for (bool weak : {false, true}) {
     SCOPED_TRACE(weak ? "weak: bonds reach their strength" : "strong: no bond breaks");
@@ -267,10 +258,10 @@ TEST(BondForces, SimdBatchesMatchBondByBond) {
       sim.step();
       reached = evaluate_both();
     }
-    EXPECT_LT(relative_difference(r[0].f, r[1].f), 1e-13);
-    EXPECT_LT(relative_difference(r[0].moment, r[1].moment), 1e-13);
-    EXPECT_LT(relative_difference(r[0].fn, r[1].fn), 1e-13);
-    EXPECT_LT(relative_difference(r[0].fs, r[1].fs), 1e-13);
+    EXPECT_LT(test::max_relative_difference(r[0].f, r[1].f), 1e-13);
+    EXPECT_LT(test::max_relative_difference(r[0].moment, r[1].moment), 1e-13);
+    EXPECT_LT(test::max_relative_difference(r[0].fn, r[1].fn), 1e-13);
+    EXPECT_LT(test::max_relative_difference(r[0].fs, r[1].fs), 1e-13);
     EXPECT_EQ(r[0].onset, r[1].onset);
     EXPECT_EQ(r[0].broken, r[1].broken);
     if (weak)

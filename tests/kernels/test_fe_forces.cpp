@@ -317,15 +317,6 @@ LanePathResult run_lane_path(MaterialModel model, Formulation f, int qp, bool mi
   return r;
 }
 
-double max_relative_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  double scale = 0.0, diff = 0.0;
-  for (size_t i = 0; i < a.size(); ++i) {
-    scale = std::max(scale, std::fabs(a[i]));
-    diff = std::max(diff, std::fabs(a[i] - b[i]));
-  }
-  return scale > 0.0 ? diff / scale : diff;
-}
-
 TEST(FeForces, SimdBatchesMatchElementByElement) {
   for (MaterialModel model :
        {MaterialModel::elastic, MaterialModel::bilinear_j2, MaterialModel::mohr_coulomb})
@@ -338,11 +329,11 @@ TEST(FeForces, SimdBatchesMatchElementByElement) {
           const LanePathResult batched = run_lane_path(model, f, qp, false, holes);
           const LanePathResult single = run_lane_path(model, f, qp, true, holes);
           ASSERT_EQ(batched.stress.size(), single.stress.size());
-          EXPECT_LT(max_relative_difference(batched.stress, single.stress), 1e-12);
-          EXPECT_LT(max_relative_difference(batched.epeq, single.epeq), 1e-12);
-          EXPECT_LT(max_relative_difference(batched.node_force, single.node_force), 1e-12);
-          EXPECT_LT(max_relative_difference(batched.work, single.work), 1e-12);
-          EXPECT_LT(max_relative_difference(batched.dissipation, single.dissipation), 1e-12);
+          EXPECT_LT(test::max_relative_difference(batched.stress, single.stress), 1e-12);
+          EXPECT_LT(test::max_relative_difference(batched.epeq, single.epeq), 1e-12);
+          EXPECT_LT(test::max_relative_difference(batched.node_force, single.node_force), 1e-12);
+          EXPECT_LT(test::max_relative_difference(batched.work, single.work), 1e-12);
+          EXPECT_LT(test::max_relative_difference(batched.dissipation, single.dissipation), 1e-12);
           EXPECT_NEAR(batched.dt, single.dt, 1e-12 * single.dt);
           EXPECT_EQ(batched.flagged, single.flagged);
           EXPECT_EQ(batched.yielded, single.yielded);
