@@ -328,8 +328,7 @@ struct CheckpointIO {
     if (used < 0 || used > static_cast<int>(s.model_.bonds.used.extent(0)) || particles < 0 ||
         particles > static_cast<int>(s.model_.nodes.particle_list.extent(0)))
       throw std::runtime_error("bond or particle list counts out of range");
-    update_scatter_plan(s.model_.elements);
-    update_scatter_plan(s.model_.bonds);
+    s.locate_scatter_chunks();
     // The constructor's force evaluation flagged elements of the initial active list.
     Kokkos::deep_copy(s.conversion_pending_, 0);
     // The next step as the uninterrupted run computes it, for the restart's end_time (the

@@ -252,9 +252,7 @@ void Simulation::convert() {
     m.bonds.used_count = build_used_bonds(m.bonds);
     m.nodes.particle_count = build_particle_list(m.nodes);
   }
-  // The active list and the bond list changed: new chunks for the force scatter.
-  update_scatter_plan(m.elements);
-  update_scatter_plan(m.bonds);
+  locate_scatter_chunks();
   Kokkos::deep_copy(
       Kokkos::subview(m.converted, std::make_pair(m.converted_count, m.converted_count + n)),
       Kokkos::subview(m.new_cells, std::make_pair(0, n)));
@@ -277,6 +275,11 @@ double Simulation::next_dt() const {
   // Land exactly on end_time.
   if (time_ + dt > c.sim.end_time) dt = std::max(c.sim.end_time - time_, 0.0);
   return dt;
+}
+
+void Simulation::locate_scatter_chunks() {
+  update_scatter_plan(model_.elements);
+  update_scatter_plan(model_.bonds);
 }
 
 void Simulation::finish_kick() {
@@ -565,8 +568,7 @@ void Simulation::restore_snapshot() {
   model_.elements.active_count = snapshot_.active_elements;
   model_.bonds.used_count = snapshot_.used_bonds;
   model_.nodes.particle_count = snapshot_.particles;
-  update_scatter_plan(model_.elements);
-  update_scatter_plan(model_.bonds);
+  locate_scatter_chunks();
   // Flags of the abandoned steps name positions in another active list: drop them (the next
   // force evaluation flags the restored state).
   Kokkos::deep_copy(conversion_pending_, 0);

@@ -53,6 +53,9 @@ class Simulation {
   double evaluate_forces(double dt);
   // Converts the adaptive elements that reached their conversion criterion (DESIGN.md 1.3).
   void convert();
+  // After the active or bond list changed (conversion, restore): the force scatter's chunks
+  // are re-located in them (kernels/scatter.hpp).
+  void locate_scatter_chunks();
 
   Model model_;
   double time_ = 0.0, dt_ = 0.0, dt_bound_ = 0.0, dt_initial_ = 0.0;

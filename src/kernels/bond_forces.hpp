@@ -207,7 +207,7 @@ struct BondForces {
         (li * gather_lanes<T>(nodes.spin.data(), i, 1) +
          lj * gather_lanes<T>(nodes.spin.data(), j, 1));
     const T shear_increment = dvt * dt;
-    const T us = fs_old / (1.0 * ks) + us_p + shear_increment;  // (1 - D) = 1
+    const T us = fs_old / ks + us_p + shear_increment;  // bond(): (1 - D) ks with D = 0
     T fs = ks > 0.0 ? ks * (us - us_p) : splat<T>(0.0);
     // The face traction from the intact cells around each bond (bond(): the same sum in the same
     // order), or the bond's own stresses without one.
