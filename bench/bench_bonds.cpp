@@ -1,7 +1,8 @@
 // Throughput of the bond phase of the disc lattice (cell stress for failure + bond forces with
 // shear, rotation and failure checks) on square lattices of about 10^4, 10^5 and 10^6 discs,
 // in bond-steps per second (active bonds x steps / s). Run with OMP_NUM_THREADS=1 and =2
-// (bench/run_threads.sh does both).
+// (bench/run_threads.sh does both). BM_BondPhaseFullCheck does every bond's failure check (no
+// cell marked below its strength); BM_CellStress and BM_BondForces time the two kernels alone.
 #include <benchmark/benchmark.h>
 
 #include "bench_main.hpp"
@@ -15,7 +16,13 @@
 
 namespace {
 
-void BM_BondPhase(benchmark::State& state) {
+// Which part of the phase a benchmark times.
+enum class BondPart { phase, cell_stress, bond_forces };
+
+// bound_faces: whether the cell kernel may mark cells below their strength on every face (the
+// bond kernel then skips their failure check: kCellBelowStrength); false times the full check of
+// every bond, the case of a lattice loaded near its strength.
+void bond_part(benchmark::State& state, BondPart part, bool bound_faces = true) {
   using namespace fracta;
   const int n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(state.range(0))))) - 1;
   const double h = 1e-3;
@@ -34,23 +41,56 @@ void BM_BondPhase(benchmark::State& state) {
   for (auto _ : state) {
     Kokkos::fence();
     const auto t0 = std::chrono::steady_clock::now();
-    compute_cell_stress(m.converted, m.converted_count, m.element_bonds, m.lattice_stiffness,
-                        m.elements, m.nodes, m.bonds);
-    compute_bond_forces(m.nodes, m.elements, m.bonds, m.bond_laws, dt);
+    if (part != BondPart::bond_forces)
+      compute_cell_stress(m.converted, m.converted_count, m.element_bonds, m.lattice_stiffness,
+                          m.bond_laws, m.elements, m.nodes, m.bonds, bound_faces);
+    if (part != BondPart::cell_stress)
+      compute_bond_forces(m.nodes, m.elements, m.bonds, m.bond_laws, dt);
     Kokkos::fence();
     state.SetIterationTime(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
   state.counters["discs"] = m.nodes.count;
   state.counters["bonds"] = m.bonds.count;
+  // Per bond for every part, so the parts' times add up as the inverses of their rates.
   state.counters["items_per_s"] = benchmark::Counter(
       static_cast<double>(m.bonds.count) * state.iterations(), benchmark::Counter::kIsRate);
   state.SetLabel("bond-steps/s");
 }
 
+// The whole phase (the target's figure), the same with every bond's failure check done, then
+// the phase's two kernels alone.
+void BM_BondPhase(benchmark::State& state) {
+  bond_part(state, BondPart::phase);
+}
+void BM_BondPhaseFullCheck(benchmark::State& state) {
+  bond_part(state, BondPart::phase, false);
+}
+void BM_CellStress(benchmark::State& state) {
+  bond_part(state, BondPart::cell_stress);
+}
+void BM_BondForces(benchmark::State& state) {
+  bond_part(state, BondPart::bond_forces);
+}
+
 BENCHMARK(BM_BondPhase)
     ->Arg(10000)
     ->Arg(100000)
+    ->Arg(1000000)
+    ->ArgName("discs")
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BondPhaseFullCheck)
+    ->Arg(1000000)
+    ->ArgName("discs")
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CellStress)
+    ->Arg(1000000)
+    ->ArgName("discs")
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BondForces)
     ->Arg(1000000)
     ->ArgName("discs")
     ->UseManualTime()

@@ -15,8 +15,8 @@ double bond_forces_kernels(const Nodes& nodes, const Elements& elements, const B
         double u_plastic = 0.0, alpha = 0.0, force = 0.0;
         out(i) = bilinear_spring(1e6, 1e-3 * i, 10.0, 1e3, u_plastic, alpha, force) + force;
       });
-  compute_cell_stress(cells, static_cast<int>(cells.extent(0)), element_bonds, stiffness, elements,
-                      nodes, bonds);
+  compute_cell_stress(cells, static_cast<int>(cells.extent(0)), element_bonds, stiffness, laws,
+                      elements, nodes, bonds);
   const BondStepResult r = compute_bond_forces(nodes, elements, bonds, laws, 1e-7);
   StableDtWorkspace ws;
   return r.fracture_energy + bond_stable_dt(nodes, bonds, 2) + bond_stable_dt(nodes, bonds, 2, ws);

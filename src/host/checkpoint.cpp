@@ -27,8 +27,9 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kFormat = "fracta checkpoint";
-// 2: bond damage and onset separation; 3: the lists of used bond slots and of particles
-constexpr std::int64_t kFormatVersion = 4;
+// 2: bond damage and onset separation; 3: the lists of used bond slots and of particles;
+// 4: the FE dissipation sums; 5: bond slots in the bond kernel's order (build_lattice)
+constexpr std::int64_t kFormatVersion = 5;
 
 // Owns one HDF5 identifier.
 class H5Handle {

@@ -58,11 +58,21 @@ KOKKOS_INLINE_FUNCTION double bilinear_spring(double k, double u, double f_yield
 // centre (reference one-point gradients), Green-Lagrange strain E = (F^T F - I)/2 (rotation
 // invariant, so fragments may spin) less the cell's offset at conversion (its strain beyond the
 // elastic part then), and the lattice's own elastic law S = C : E (the C the bonds reproduce). A
-// cell with a broken or softening bond is no longer a continuum: it is marked not intact.
+// cell with a broken or softening bond is no longer a continuum: it is marked cracked.
+//
+// An intact cell whose stress is below the strength on every face by a bound is marked
+// kCellBelowStrength (with bound_faces), and the bond kernel's batches skip the failure check of
+// bonds whose intact cells are all so marked: their check could not find a bond at its strength.
+// The bound, from the Mohr circle (centre C, radius R) of the cell stress: on every face
+// sigma_n <= C + R, and tau + sigma_n tan(phi) <= C tan(phi) + R sqrt(1 + tan(phi)^2) (the
+// tangent to the circle); both are convex in the stress, so they hold for the mean of a bond's
+// two cells too. A margin of 1e-9 of the terms' size keeps rounding out of the decision.
+// (A bond's law is its cells' law: both cells of a bond belong to one body, of one material.)
 inline void compute_cell_stress(const View<int*>& cells, int count,
                                 const View<int* [6]>& element_bonds,
                                 const View<const LatticeStiffness*>& stiffness,
-                                const Elements& elements, const Nodes& nodes, const Bonds& bonds) {
+                                const View<const BondLaw*>& laws, const Elements& elements,
+                                const Nodes& nodes, const Bonds& bonds, bool bound_faces = true) {
   if (count == 0) return;
   Kokkos::parallel_for(
       "fracta::cell_stress", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(const int k) {
@@ -74,7 +84,6 @@ inline void compute_cell_stress(const View<int*>& cells, int count,
           if (b >= 0 && (bonds.state(b) == kBondBroken || bonds.onset_separation(b) > 0.0))
             intact = 0;
         }
-        elements.cell_intact(e) = intact;
         double green[3];
         cell_green_lagrange(elements, nodes, e, green);
         const double exx = green[0] - elements.cell_strain_offset(e, 0);
@@ -85,6 +94,28 @@ inline void compute_cell_stress(const View<int*>& cells, int count,
         elements.cell_stress(e, 0) = c * (exx + s.poisson_ratio_eff * eyy);
         elements.cell_stress(e, 1) = c * (eyy + s.poisson_ratio_eff * exx);
         elements.cell_stress(e, 2) = s.youngs_modulus_eff / (1.0 + s.poisson_ratio_eff) * exy;
+        int state = intact ? kCellIntact : kCellCracked;
+        if (intact && bound_faces) {
+          const BondLaw& law = laws(elements.material(e));
+          const double sxx = elements.cell_stress(e, 0), syy = elements.cell_stress(e, 1),
+                       sxy = elements.cell_stress(e, 2);
+          const double centre = 0.5 * (sxx + syy);
+          const double radius = sqrt_(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
+          constexpr double margin = 1e-9;
+          bool below = true;
+          if (law.tensile_strength > 0.0)
+            below = centre + radius + margin * (fabs_(centre) + radius + law.tensile_strength) <
+                    law.tensile_strength;
+          if (law.cohesion > 0.0) {
+            const double secant = sqrt_(1.0 + law.tan_friction * law.tan_friction);
+            const double shear = centre * law.tan_friction + radius * secant;
+            below = below && shear + margin * (fabs_(centre) * law.tan_friction + radius * secant +
+                                               law.cohesion) <
+                                 law.cohesion;
+          }
+          if (below) state = kCellBelowStrength;
+        }
+        elements.cell_intact(e) = state;
       });
 }
 
@@ -132,6 +163,9 @@ struct BondForces {
   // Forces added straight into nodes.f and nodes.moment (kernels/scatter.hpp), atomically when
   // the bonds do not run by the chunks of a ScatterPlan (GPUs).
   bool atomic = true;
+  // CPU batches: whether runs of slots load their node data as vectors (batch()); false gathers
+  // lane by lane everywhere (tests compare the two).
+  bool runs = true;
 
   KOKKOS_INLINE_FUNCTION int slot(const int k) const { return list.extent(0) > 0 ? list(k) : k; }
 
@@ -143,107 +177,191 @@ struct BondForces {
   KOKKOS_INLINE_FUNCTION void chunk(const int begin, const int end, Sums<3>& acc) const {
     int k = begin;
 #ifdef FRACTA_HOST_SIMD
-    for (; k + kLanes <= end; k += kLanes)
-      if (!elastic_batch(k))
-        for (int l = 0; l < kLanes; ++l) bond(slot(k + l), acc);
+    while (k + kLanes <= end) {
+      const int advance = batch(k, acc);
+      k += advance;
+    }
 #endif
     for (; k < end; ++k) bond(slot(k), acc);
   }
 
 #ifdef FRACTA_HOST_SIMD
-  // Eight bonds at once in SIMD lanes (simd.hpp), the common case of a lattice at work: eight
-  // consecutive active slots of one material with elastic springs (no yield stress), none
-  // softening (onset 0, so damage 0) and none reaching its strength this step. The arithmetic
-  // is bond()'s on that path, lane by lane, in the same order. If the batch does not qualify,
+  // The bonds from list position k: a batch of kLanes, or the bonds before the start of a run.
+  // Returns how many it did. A run is a stretch of consecutive slots whose two ends both advance
+  // by one node per slot (build_lattice orders the slots so): a batch inside one loads and adds
+  // the node data as whole vectors. A window that holds the start of a run (one or two breaks)
+  // goes bond by bond up to it, so the batches that follow line up with the run; a window with
+  // more breaks (an irregular mesh) is one batch with its node data gathered lane by lane.
+  int batch(const int k, Sums<3>& acc) const {
+    constexpr int L = kLanes;
+    const int b0 = slot(k);
+    // The list increases: consecutive slots, and the ends of the slots as (i, j) rows.
+    if (runs && slot(k + L - 1) == b0 + L - 1 && bonds.nodes.stride_0() == 2 &&
+        bonds.cells.stride_0() == 2) {
+      const Int16 ends = load_ints16(&bonds.nodes(b0, 0));
+      const Int16 first =
+          __builtin_shufflevector(ends, ends, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1);
+      if (all_set(ends == first + Int16{0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7})) {
+        if (!elastic_batch<true>(b0))
+          for (int l = 0; l < L; ++l) bond(b0 + l, acc);
+        return L;
+      }
+      unsigned breaks = 0;
+      for (int l = 1; l < L; ++l)
+        if (ends[2 * l] != ends[2 * l - 2] + 1 || ends[2 * l + 1] != ends[2 * l - 1] + 1)
+          breaks |= 1u << l;
+      if (__builtin_popcount(breaks) <= 2) {
+        const int run_start = 31 - __builtin_clz(breaks);
+        for (int l = 0; l < run_start; ++l) bond(b0 + l, acc);
+        return run_start;
+      }
+      if (elastic_batch<false>(b0)) return L;
+    } else if (!runs && slot(k + L - 1) == b0 + L - 1 && bonds.cells.stride_0() == 2 &&
+               elastic_batch<false>(b0)) {
+      return L;
+    }
+    for (int l = 0; l < L; ++l) bond(slot(k + l), acc);
+    return L;
+  }
+
+  // Eight bonds at once in SIMD lanes (simd.hpp), the common case of a lattice at work: the
+  // consecutive active slots b0 .. b0 + 7 of one material with elastic springs (no yield stress),
+  // none softening (onset 0, so damage 0) and none reaching its strength this step. kRun: the
+  // slots are a run (batch()), so the node data of each end move as vectors; the cells too, where
+  // they advance by one per slot. The arithmetic is bond()'s on that path, lane by lane, in the
+  // same order, and the adds to each node come in bond()'s order (an end j of an earlier lane
+  // before the end i of a later one: the j ends are added first). If the batch does not qualify,
   // or a lane reaches its strength, it returns false before writing anything, and the caller
   // runs bond() for each (rare: a bond breaks or starts to soften once).
-  bool elastic_batch(const int position) const {
+  template <bool kRun>
+  bool elastic_batch(const int b0) const {
     using T = Double8;
     constexpr int L = 8;
-    const int b0 = slot(position);
-    if (slot(position + L - 1) != b0 + L - 1) return false;  // the list increases
     const int material = bonds.material(b0);
-    for (int l = 0; l < L; ++l)
-      if (bonds.state(b0 + l) != kBondActive || bonds.material(b0 + l) != material) return false;
+    if (!all_set(load_ints8(bonds.state.data() + b0) == static_cast<int>(kBondActive)) ||
+        !all_set(load_ints8(bonds.material.data() + b0) == material))
+      return false;
     const BondLaw& law = laws(material);
     if (law.yield_stress > 0.0) return false;
     const bool cohesive = law.fracture_energy > 0.0;
-    if (cohesive)
-      for (int l = 0; l < L; ++l)
-        if (bonds.onset_separation(b0 + l) != 0.0) return false;
-    int i[L], j[L], c0[L], c1[L];
-    for (int l = 0; l < L; ++l) {
-      i[l] = bonds.nodes(b0 + l, 0);
-      j[l] = bonds.nodes(b0 + l, 1);
-      c0[l] = bonds.cells(b0 + l, 0);
-      c1[l] = bonds.cells(b0 + l, 1);
+    int i[L], j[L], b[L];
+    for (int l = 0; l < L; ++l) b[l] = b0 + l;
+    if (cohesive && any_lane(load_lanes<T>(bonds.onset_separation.data(), b, true) != 0.0))
+      return false;
+    for (int l = 0; l < L; ++l) {  // a run: i[0] + l and j[0] + l
+      i[l] = bonds.nodes(kRun ? b0 : b0 + l, 0) + (kRun ? l : 0);
+      j[l] = bonds.nodes(kRun ? b0 : b0 + l, 1) + (kRun ? l : 0);
     }
-    const int xs = static_cast<int>(nodes.x.stride_0()), vs = static_cast<int>(nodes.v.stride_0());
-    const int x0s = static_cast<int>(nodes.x0.stride_0());
-    const T xi = gather_lanes<T>(&nodes.x(0, 0), i, xs),
-            yi = gather_lanes<T>(&nodes.x(0, 1), i, xs);
-    const T xj = gather_lanes<T>(&nodes.x(0, 0), j, xs),
-            yj = gather_lanes<T>(&nodes.x(0, 1), j, xs);
+    // Node data of the ends: (x, y) pairs of the [n][2] views and the per-node columns.
+    const auto pair = [&](const View<double* [2]>& a, const int(&n)[L], T& ax, T& ay) {
+      if (kRun && a.stride_0() == 2) {
+        load_pairs(&a(n[0], 0), ax, ay);
+      } else {
+        const int stride = static_cast<int>(a.stride_0());
+        ax = gather_lanes<T>(&a(0, 0), n, stride);
+        ay = gather_lanes<T>(&a(0, 1), n, stride);
+      }
+    };
+    const auto column = [&](const View<double*>& a, const int(&n)[L]) {
+      return kRun ? load_lanes<T>(a.data(), n, true) : gather_lanes<T>(a.data(), n, 1);
+    };
+    T xi, yi, xj, yj;
+    pair(nodes.x, i, xi, yi);
+    pair(nodes.x, j, xj, yj);
     const T dx = xj - xi, dy = yj - yi;
     const T length = sqrt_(dx * dx + dy * dy);
-    const T nx = dx / length, ny = dy / length;
-    const T ri = gather_lanes<T>(nodes.radius.data(), i, 1);
-    const T rj = gather_lanes<T>(nodes.radius.data(), j, 1);
-    const T li = length * ri / (ri + rj), lj = length * rj / (ri + rj);
-    const bool consecutive = true;
-    int b[L];
-    for (int l = 0; l < L; ++l) b[l] = b0 + l;
-    const T kn = load_lanes<T>(bonds.kn.data(), b, consecutive);
-    const T ks = load_lanes<T>(bonds.ks.data(), b, consecutive);
-    const T area = load_lanes<T>(bonds.area.data(), b, consecutive);
-    const T L0 = load_lanes<T>(bonds.length0.data(), b, consecutive);
-    const T up = load_lanes<T>(bonds.plastic_n.data(), b, consecutive);
-    const T us_p = load_lanes<T>(bonds.plastic_s.data(), b, consecutive);
-    const T fs_old = load_lanes<T>(bonds.fs.data(), b, consecutive);
+    const T inverse_length = 1.0 / length;
+    const T nx = dx * inverse_length, ny = dy * inverse_length;
+    const T ri = column(nodes.radius, i);
+    const T rj = column(nodes.radius, j);
+    const T length_share = length / (ri + rj);
+    const T li = length_share * ri, lj = length_share * rj;
+    const T kn = load_lanes<T>(bonds.kn.data(), b, true);
+    const T ks = load_lanes<T>(bonds.ks.data(), b, true);
+    const T L0 = load_lanes<T>(bonds.length0.data(), b, true);
+    const T up = load_lanes<T>(bonds.plastic_n.data(), b, true);
+    const T fs_old = load_lanes<T>(bonds.fs.data(), b, true);
     T fn = kn * ((length - L0) - up);  // bilinear_spring without a yield force
-    const T dvt =
-        -(gather_lanes<T>(&nodes.v(0, 0), j, vs) - gather_lanes<T>(&nodes.v(0, 0), i, vs)) * ny +
-        (gather_lanes<T>(&nodes.v(0, 1), j, vs) - gather_lanes<T>(&nodes.v(0, 1), i, vs)) * nx -
-        (li * gather_lanes<T>(nodes.spin.data(), i, 1) +
-         lj * gather_lanes<T>(nodes.spin.data(), j, 1));
+    T vxi, vyi, vxj, vyj;
+    pair(nodes.v, i, vxi, vyi);
+    pair(nodes.v, j, vxj, vyj);
+    const T dvt = -(vxj - vxi) * ny + (vyj - vyi) * nx -
+                  (li * column(nodes.spin, i) + lj * column(nodes.spin, j));
     const T shear_increment = dvt * dt;
-    const T us = fs_old / ks + us_p + shear_increment;  // bond(): (1 - D) ks with D = 0
-    T fs = ks > 0.0 ? ks * (us - us_p) : splat<T>(0.0);
-    // The face traction from the intact cells around each bond (bond(): the same sum in the same
-    // order), or the bond's own stresses without one.
-    T s3[3] = {splat<T>(0.0), splat<T>(0.0), splat<T>(0.0)};
-    T cells = splat<T>(0.0);
-    for (const int* c : {c0, c1}) {
-      T in = splat<T>(0.0), st[3] = {in, in, in};
-      for (int l = 0; l < L; ++l) {
-        if (c[l] < 0 || !elements.cell_intact(c[l])) continue;
-        in[l] = 1.0;
-        for (int q = 0; q < 3; ++q) st[q][l] = elements.cell_stress(c[l], q);
+    T fs = ks > 0.0 ? fs_old + ks * shear_increment : splat<T>(0.0);  // bond() with D = 0
+    // The failure check: skipped where every lane has an intact cell and all its intact cells
+    // are below their strength on every face (compute_cell_stress), else as bond() does it.
+    const Int16 cell_pairs = load_ints16(&bonds.cells(b0, 0));  // stride_0 2, as the ends
+    Int8 cell_state[2];
+    bool advancing[2];
+    for (int side = 0; side < 2; ++side) {
+      const Int8 cv = side == 0 ? even_lanes(cell_pairs) : odd_lanes(cell_pairs);
+      advancing[side] = kRun && cv[0] >= 0 && all_set(cv == cv[0] + Int8{0, 1, 2, 3, 4, 5, 6, 7});
+      if (advancing[side]) {
+        cell_state[side] = load_ints8(&elements.cell_intact(cv[0]));
+      } else {
+        for (int l = 0; l < L; ++l)
+          cell_state[side][l] = cv[l] < 0 ? kCellCracked : elements.cell_intact(cv[l]);
       }
-      for (int q = 0; q < 3; ++q) s3[q] += st[q];
-      cells += in;
     }
-    const T ux =
-        gather_lanes<T>(&nodes.x0(0, 0), j, x0s) - gather_lanes<T>(&nodes.x0(0, 0), i, x0s);
-    const T uy =
-        gather_lanes<T>(&nodes.x0(0, 1), j, x0s) - gather_lanes<T>(&nodes.x0(0, 1), i, x0s);
-    const T n0x = ux / L0, n0y = uy / L0;
-    const T divisor = cells > 0.0 ? cells : splat<T>(1.0);
-    const T sxx = s3[0] / divisor, syy = s3[1] / divisor, sxy = s3[2] / divisor;
-    const T sigma_cells = sxx * n0x * n0x + syy * n0y * n0y + 2.0 * sxy * n0x * n0y;
-    const T t_cells = -(sxx * n0x + sxy * n0y) * n0y + (sxy * n0x + syy * n0y) * n0x;
-    const T tau_cells = t_cells < 0.0 ? -t_cells : t_cells;
-    const T abs_fs = fs < 0.0 ? -fs : fs;
-    const T sigma_n = cells > 0.0 ? sigma_cells : (area > 0.0 ? fn / area : splat<T>(0.0));
-    const T tau = cells > 0.0 ? tau_cells : (area > 0.0 ? abs_fs / area : splat<T>(0.0));
-    auto reaches = !all_lanes<T>();
-    if (law.tensile_strength > 0.0) reaches = reaches || sigma_n >= law.tensile_strength;
-    if (law.cohesion > 0.0) reaches = reaches || tau >= law.cohesion - sigma_n * law.tan_friction;
-    if (any_lane(reaches)) return false;
-    store_lanes(fn, bonds.fn.data(), b, consecutive);
-    store_lanes(fs, bonds.fs.data(), b, consecutive);
+    const Int8 cracked = Int8{} + int{kCellCracked}, intact_only = Int8{} + int{kCellIntact},
+               below = Int8{} + int{kCellBelowStrength};
+    if (!all_set((cell_state[0] == below || cell_state[1] == below) &&
+                 (cell_state[0] != intact_only) && (cell_state[1] != intact_only))) {
+      // The face traction from the intact cells around each bond (bond(): the same sum in the
+      // same order), or the bond's own stresses without one.
+      T s3[3] = {splat<T>(0.0), splat<T>(0.0), splat<T>(0.0)};
+      T cells = splat<T>(0.0);
+      for (int side = 0; side < 2; ++side) {
+        const Int8 cv = side == 0 ? even_lanes(cell_pairs) : odd_lanes(cell_pairs);
+        if (all_set(cell_state[side] == cracked)) continue;
+        const Mask8 intact = widen(cell_state[side] != cracked);
+        T st[3] = {splat<T>(0.0), splat<T>(0.0), splat<T>(0.0)};
+        if (advancing[side] && elements.cell_stress.stride_0() == 3) {
+          load_triples(&elements.cell_stress(cv[0], 0), st[0], st[1], st[2]);
+        } else {
+          for (int l = 0; l < L; ++l)
+            for (int q = 0; q < 3; ++q)
+              st[q][l] = cell_state[side][l] != kCellCracked ? elements.cell_stress(cv[l], q) : 0.0;
+        }
+        for (int q = 0; q < 3; ++q) s3[q] += intact ? st[q] : splat<T>(0.0);
+        cells += intact ? splat<T>(1.0) : splat<T>(0.0);
+      }
+      T x0i, y0i, x0j, y0j;
+      pair(nodes.x0, i, x0i, y0i);
+      pair(nodes.x0, j, x0j, y0j);
+      const T ux = x0j - x0i, uy = y0j - y0i;
+      const T inverse_L0 = 1.0 / L0;
+      const T n0x = ux * inverse_L0, n0y = uy * inverse_L0;
+      const T mean = cells > 1.0 ? splat<T>(0.5) : splat<T>(1.0);
+      const T sxx = s3[0] * mean, syy = s3[1] * mean, sxy = s3[2] * mean;
+      const T sigma_cells = sxx * n0x * n0x + syy * n0y * n0y + 2.0 * sxy * n0x * n0y;
+      const T t_cells = -(sxx * n0x + sxy * n0y) * n0y + (sxy * n0x + syy * n0y) * n0x;
+      const T tau_cells = t_cells < 0.0 ? -t_cells : t_cells;
+      T sigma_n = sigma_cells, tau = tau_cells;
+      if (any_lane(cells == 0.0)) {  // the bond's own stresses (a fragment's edge): rare
+        const T area = load_lanes<T>(bonds.area.data(), b, true);
+        const T abs_fs = fs < 0.0 ? -fs : fs;
+        sigma_n = cells > 0.0 ? sigma_cells : (area > 0.0 ? fn / area : splat<T>(0.0));
+        tau = cells > 0.0 ? tau_cells : (area > 0.0 ? abs_fs / area : splat<T>(0.0));
+      }
+      auto reaches = !all_lanes<T>();
+      if (law.tensile_strength > 0.0) reaches = reaches || sigma_n >= law.tensile_strength;
+      if (law.cohesion > 0.0) reaches = reaches || tau >= law.cohesion - sigma_n * law.tan_friction;
+      if (any_lane(reaches)) return false;
+    }
+    store_lanes(fn, bonds.fn.data(), b, true);
+    store_lanes(fs, bonds.fs.data(), b, true);
     const T fx = fn * nx - fs * ny, fy = fn * ny + fs * nx;
     const T mi = li * fs, mj = lj * fs;
+    if (kRun && nodes.f.stride_0() == 2) {
+      // The j ends first: bond()'s order where the two ranges overlap (j = i + d, 0 < d < 8).
+      add_pairs(&nodes.f(j[0], 0), -fx, -fy);
+      add_lanes(mj, nodes.moment.data(), j, true);
+      add_pairs(&nodes.f(i[0], 0), fx, fy);
+      add_lanes(mi, nodes.moment.data(), i, true);
+      return true;
+    }
     for (int l = 0; l < L; ++l) {
       nodes.f(i[l], 0) += fx[l];
       nodes.f(i[l], 1) += fy[l];
@@ -261,12 +379,16 @@ struct BondForces {
     const int i = bonds.nodes(b, 0), j = bonds.nodes(b, 1);
     const double dx = nodes.x(j, 0) - nodes.x(i, 0), dy = nodes.x(j, 1) - nodes.x(i, 1);
     const double length = sqrt_(dx * dx + dy * dy);
-    const double nx = dx / length, ny = dy / length;  // n; t = (-ny, nx)
+    // Reciprocals, then products: divisions are the slowest arithmetic of the kernel (the SIMD
+    // batch, which must give the same numbers, has three per bond).
+    const double inverse_length = 1.0 / length;
+    const double nx = dx * inverse_length, ny = dy * inverse_length;  // n; t = (-ny, nx)
     // Lever arms to the contact point, which splits the current length in the ratio of the
     // radii: then the moments l_i fs + l_j fs = L fs balance the couple of the shear forces
     // exactly (angular momentum is conserved whatever the stretch).
     const double ri = nodes.radius(i), rj = nodes.radius(j);
-    const double li = length * ri / (ri + rj), lj = length * rj / (ri + rj);
+    const double length_share = length / (ri + rj);
+    const double li = length_share * ri, lj = length_share * rj;
     const BondLaw& law = laws(bonds.material(b));
     const double kn = bonds.kn(b), ks = bonds.ks(b), area = bonds.area(b), L0 = bonds.length0(b);
     // Bilinear parameters in force units: yield force = yield stress * S, hardening modulus
@@ -278,7 +400,7 @@ struct BondForces {
     // have set: the cell's strain beyond its elastic part): read what the forces need, write
     // nothing back (a sixth of the bytes a bond moves per step).
     const bool plastic_law = law.yield_stress > 0.0;
-    double up = bonds.plastic_n(b), us_p = bonds.plastic_s(b);
+    double up = bonds.plastic_n(b), us_p = plastic_law ? bonds.plastic_s(b) : 0.0;
     double alpha = plastic_law ? bonds.hardening(b) : 0.0;
     // fn, fs: the undamaged spring forces; a softening bond applies (1 - D) of them.
     const bool cohesive = law.fracture_energy > 0.0;
@@ -295,8 +417,13 @@ struct BondForces {
                          (li * nodes.spin(i) + lj * nodes.spin(j));
       // Shear displacement kept as the elastic part fs/ks plus the plastic slip.
       shear_increment = dvt * dt;
-      const double us = fs_old / ((1.0 - damage_old) * ks) + us_p + shear_increment;
-      plastic += bilinear_spring(ks, us, fy_s, k_hard, us_p, alpha, fs);
+      const double fs_undamaged = damage_old > 0.0 ? fs_old / (1.0 - damage_old) : fs_old;
+      if (plastic_law) {
+        const double us = fs_undamaged / ks + us_p + shear_increment;
+        plastic += bilinear_spring(ks, us, fy_s, k_hard, us_p, alpha, fs);
+      } else {
+        fs = fs_undamaged + ks * shear_increment;  // ks (us - us_p), without the round trip
+      }
     }
     // Failure (paper Sec. 2.3 with Eq. 6 corrected; DESIGN.md 1.2): Mohr-Coulomb with tension
     // cut-off on the face the bond stands for: the cell face normal to an edge bond, the
@@ -312,15 +439,17 @@ struct BondForces {
       int cells = 0;
       for (int k = 0; k < 2; ++k) {
         const int c = bonds.cells(b, k);
-        if (c < 0 || !elements.cell_intact(c)) continue;
+        if (c < 0 || elements.cell_intact(c) == kCellCracked) continue;
         for (int q = 0; q < 3; ++q) s3[q] += elements.cell_stress(c, q);
         ++cells;
       }
       if (cells > 0) {
         // Reference-frame stress with the reference bond direction (rotation invariant).
         const double ux = nodes.x0(j, 0) - nodes.x0(i, 0), uy = nodes.x0(j, 1) - nodes.x0(i, 1);
-        const double n0x = ux / L0, n0y = uy / L0;
-        const double sxx = s3[0] / cells, syy = s3[1] / cells, sxy = s3[2] / cells;
+        const double inverse_L0 = 1.0 / L0;
+        const double n0x = ux * inverse_L0, n0y = uy * inverse_L0;
+        const double mean = cells > 1 ? 0.5 : 1.0;  // exactly s3 / cells
+        const double sxx = s3[0] * mean, syy = s3[1] * mean, sxy = s3[2] * mean;
         sigma_n = sxx * n0x * n0x + syy * n0y * n0y + 2.0 * sxy * n0x * n0y;
         tau = fabs_(-(sxx * n0x + sxy * n0y) * n0y + (sxy * n0x + syy * n0y) * n0x);
       } else {
@@ -441,15 +570,16 @@ inline int bond_list_count(const Bonds& bonds) {
 
 // Bond forces added into nodes.f and nodes.moment. The list is increasing, so the order of
 // every node's sum is the one of the sweep over all slots. Without a usable bonds.scatter (the
-// plan of the list: update_scatter_plan) the forces are added atomically.
+// plan of the list: update_scatter_plan) the forces are added atomically. runs: BondForces::runs.
 inline BondStepResult compute_bond_forces(const Nodes& nodes, const Elements& elements,
                                           const Bonds& bonds, const View<const BondLaw*>& laws,
-                                          double dt) {
+                                          double dt, bool runs = true) {
   BondStepResult r;
   if (bonds.count == 0) return r;
   const int count = bond_list_count(bonds);
   BondForces forces{
       nodes, elements, bonds, laws, dt, bonds_listed(bonds) ? bonds.used : View<int*>(), true};
+  forces.runs = runs;
   Sums<3> s;
   if (bonds.scatter.usable(count)) {
     forces.atomic = false;

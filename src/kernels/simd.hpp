@@ -169,9 +169,68 @@ inline void add_pairs(double* pairs, const Double8& x, const Double8& y) {
   __builtin_memcpy(pairs, &lo, sizeof lo);
   __builtin_memcpy(pairs + 8, &hi, sizeof hi);
 }
+// Eight consecutive (a, b, c) triples of an interleaved array (a LayoutRight [n][3] view at row
+// n): a, b and c each as one vector, from three vector loads and six two-source shuffles.
+inline void load_triples(const double* triples, Double8& a, Double8& b, Double8& c) {
+  Double8 p, q, r;
+  __builtin_memcpy(&p, triples, sizeof p);
+  __builtin_memcpy(&q, triples + 8, sizeof q);
+  __builtin_memcpy(&r, triples + 16, sizeof r);
+  // Element 3l + m of the 24 is lane l of component m; first from p:q (indices 0-15), then the
+  // last lanes from r (second operand indices 8-15 = r's 0-7).
+  a = __builtin_shuffle(__builtin_shuffle(p, q, Mask8{0, 3, 6, 9, 12, 15, 0, 0}), r,
+                        Mask8{0, 1, 2, 3, 4, 5, 10, 13});
+  b = __builtin_shuffle(__builtin_shuffle(p, q, Mask8{1, 4, 7, 10, 13, 0, 0, 0}), r,
+                        Mask8{0, 1, 2, 3, 4, 8, 11, 14});
+  c = __builtin_shuffle(__builtin_shuffle(p, q, Mask8{2, 5, 8, 11, 14, 0, 0, 0}), r,
+                        Mask8{0, 1, 2, 3, 4, 9, 12, 15});
+}
+
 // Lane l of the result is lane l - 1 of v; lane 0 is 0.
 inline Double8 shift_up_one_lane(const Double8& v) {
   return __builtin_shuffle(v, Double8{}, Mask8{8, 0, 1, 2, 3, 4, 5, 6});
+}
+
+// Sixteen 32-bit ints (e.g. the (i, j) pairs of eight rows of a LayoutRight [n][2] int view) and
+// eight, as vectors; the lanes of a comparison are 0 or -1.
+typedef int Int16 __attribute__((vector_size(64)));
+typedef int Int8 __attribute__((vector_size(32)));
+inline Int16 load_ints16(const int* p) {
+  Int16 v;
+  __builtin_memcpy(&v, p, sizeof v);
+  return v;
+}
+inline Int8 load_ints8(const int* p) {
+  Int8 v;
+  __builtin_memcpy(&v, p, sizeof v);
+  return v;
+}
+// True if every lane of the comparison result m is set.
+inline bool all_set(const Int16& m) {
+#if defined(__AVX512F__)
+  return _mm512_test_epi32_mask(reinterpret_cast<__m512i>(m), reinterpret_cast<__m512i>(m)) ==
+         0xFFFF;
+#else
+  int r = -1;
+  for (int l = 0; l < 16; ++l) r &= m[l];
+  return r == -1;
+#endif
+}
+inline bool all_set(const Int8& m) {
+  int r = -1;
+  for (int l = 0; l < 8; ++l) r &= m[l];
+  return r == -1;
+}
+// The even and the odd lanes of v (the first and the second column of eight [n][2] rows).
+inline Int8 even_lanes(const Int16& v) {
+  return __builtin_shufflevector(v, v, 0, 2, 4, 6, 8, 10, 12, 14);
+}
+inline Int8 odd_lanes(const Int16& v) {
+  return __builtin_shufflevector(v, v, 1, 3, 5, 7, 9, 11, 13, 15);
+}
+// A comparison result of eight ints widened to the lanes of a Double8 select.
+inline Mask8 widen(const Int8& m) {
+  return __builtin_convertvector(m, Mask8);
 }
 
 // Elements per work item of the element kernel on this build.

@@ -6,8 +6,9 @@
 //  - Elements: body by body, the mesh index never changes; `active` lists the indices of the
 //    active (not converted) elements in increasing order.
 //  - Quadrature points: element e owns points [e * qp_per_element, (e + 1) * qp_per_element).
-//  - Bonds: the bond slots of the mesh, fixed at set-up (every element edge once, then every
-//    element diagonal); a slot is never moved or removed, its `state` masks it.
+//  - Bonds: the bond slots of the mesh, fixed at set-up (every element edge once and every
+//    element diagonal, in runs of one direction: build_lattice); a slot is never moved or
+//    removed, its `state` masks it.
 //  - Particle views of Nodes are sized to the node count when the scene can have particles
 //    (a de or adaptive body), and empty otherwise.
 #pragma once
@@ -46,6 +47,10 @@ struct Nodes {
   bool has_particles() const { return particle.extent(0) > 0; }
 };
 
+// Of a converted cell (compute_cell_stress): cracked once one of its bonds is broken or
+// softening; intact cells are kCellBelowStrength when their stress is below the strength on every
+// face by a bound (the bond kernel may then skip their bonds' failure check).
+enum CellState : int { kCellCracked = 0, kCellIntact = 1, kCellBelowStrength = 2 };
 enum BondState : int { kBondInactive = 0, kBondActive = 1, kBondBroken = 2 };
 enum BondKind : int { kBondEdge = 0, kBondDiagonal = 1 };
 
@@ -122,7 +127,7 @@ struct Elements {
   View<int*> alive;   // 1 while the element is an active FE element (per mesh element)
   // Converted cells (the lattice): continuum stress from the discs' motion, for bond failure.
   View<double* [3]> cell_stress;         // Pa: xx, yy, xy (reference frame)
-  View<int*> cell_intact;                // 1 while none of the cell's bonds is broken
+  View<int*> cell_intact;                // CellState: cracked once a bond of the cell broke
   View<double* [3]> cell_strain_offset;  // strain beyond the elastic part at conversion
   int count = 0;                         // all elements of the mesh
   int active_count = 0;
