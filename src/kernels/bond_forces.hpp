@@ -77,11 +77,15 @@ inline void compute_cell_stress(const View<int*>& cells, int count,
   Kokkos::parallel_for(
       "fracta::cell_stress", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(const int k) {
         const int e = cells(k);
+        const BondLaw& law = laws(elements.material(e));
+        // Only cohesive bonds soften (the others never set an onset: not read).
+        const bool cohesive = law.fracture_energy > 0.0;
         int intact = 1;
         for (int a = 0; a < 6; ++a) {
           const int b = element_bonds(e, a);
           // A broken or softening (cracking) bond: the cell is no longer a continuum.
-          if (b >= 0 && (bonds.state(b) == kBondBroken || bonds.onset_separation(b) > 0.0))
+          if (b >= 0 &&
+              (bonds.state(b) == kBondBroken || (cohesive && bonds.onset_separation(b) > 0.0)))
             intact = 0;
         }
         double green[3];
@@ -96,7 +100,6 @@ inline void compute_cell_stress(const View<int*>& cells, int count,
         elements.cell_stress(e, 2) = s.youngs_modulus_eff / (1.0 + s.poisson_ratio_eff) * exy;
         int state = intact ? kCellIntact : kCellCracked;
         if (intact && bound_faces) {
-          const BondLaw& law = laws(elements.material(e));
           const double sxx = elements.cell_stress(e, 0), syy = elements.cell_stress(e, 1),
                        sxy = elements.cell_stress(e, 2);
           const double centre = 0.5 * (sxx + syy);

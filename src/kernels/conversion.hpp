@@ -59,10 +59,11 @@ KOKKOS_INLINE_FUNCTION void cell_green_lagrange(const Elements& el, const Nodes&
     uy[a] = nodes.x(n, 1) - y0[a];
   }
   const double A = 0.5 * ((x0[2] - x0[0]) * (y0[3] - y0[1]) + (x0[1] - x0[3]) * (y0[2] - y0[0]));
+  const double inverse_2A = 0.5 / A;  // one division per cell, not eight (every step, every cell)
   double h00 = 0, h01 = 0, h10 = 0, h11 = 0;  // displacement gradient
   for (int a = 0; a < 4; ++a) {
-    const double bx = (y0[(a + 1) % 4] - y0[(a + 3) % 4]) / (2.0 * A);
-    const double by = (x0[(a + 3) % 4] - x0[(a + 1) % 4]) / (2.0 * A);
+    const double bx = (y0[(a + 1) % 4] - y0[(a + 3) % 4]) * inverse_2A;
+    const double by = (x0[(a + 3) % 4] - x0[(a + 1) % 4]) * inverse_2A;
     h00 += ux[a] * bx;
     h01 += ux[a] * by;
     h10 += uy[a] * bx;
