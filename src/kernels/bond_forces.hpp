@@ -112,7 +112,7 @@ inline void compute_cell_stress(const View<int*>& cells, int count,
           if (law.cohesion > 0.0) {
             const double secant = sqrt_(1.0 + law.tan_friction * law.tan_friction);
             const double shear = centre * law.tan_friction + radius * secant;
-            below = below && shear + margin * (fabs_(centre) * law.tan_friction + radius * secant +
+            below = below && shear + margin * (fabs_(centre * law.tan_friction) + radius * secant +
                                                law.cohesion) <
                                  law.cohesion;
           }
