@@ -42,8 +42,8 @@ void bond_part(benchmark::State& state, BondPart part, bool bound_faces = true) 
     Kokkos::fence();
     const auto t0 = std::chrono::steady_clock::now();
     if (part != BondPart::bond_forces)
-      compute_cell_stress(m.converted, m.converted_count, m.element_bonds, m.lattice_stiffness,
-                          m.bond_laws, m.elements, m.nodes, m.bonds, bound_faces);
+      compute_cell_stress(m.converted, m.converted_count, m.lattice_stiffness, m.bond_laws,
+                          m.elements, m.nodes, bound_faces);
     if (part != BondPart::cell_stress)
       compute_bond_forces(m.nodes, m.elements, m.bonds, m.bond_laws, dt);
     Kokkos::fence();

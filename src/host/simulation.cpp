@@ -164,8 +164,8 @@ double Simulation::evaluate_forces(double dt) {
   // needs several bodies or discs (one intact body cannot touch itself).
   if (m.bonds.count > 0 && m.converted_count > 0) {
     ProfilingRegion region("fracta::bond_forces");
-    compute_cell_stress(m.converted, m.converted_count, m.element_bonds, m.lattice_stiffness,
-                        m.bond_laws, m.elements, m.nodes, m.bonds);
+    compute_cell_stress(m.converted, m.converted_count, m.lattice_stiffness, m.bond_laws,
+                        m.elements, m.nodes);
     const BondStepResult r = compute_bond_forces(m.nodes, m.elements, m.bonds, m.bond_laws, dt);
     fracture_energy_ += r.fracture_energy;
     broken_bonds_ += r.broken;

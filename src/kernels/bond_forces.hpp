@@ -58,7 +58,8 @@ KOKKOS_INLINE_FUNCTION double bilinear_spring(double k, double u, double f_yield
 // centre (reference one-point gradients), Green-Lagrange strain E = (F^T F - I)/2 (rotation
 // invariant, so fragments may spin) less the cell's offset at conversion (its strain beyond the
 // elastic part then), and the lattice's own elastic law S = C : E (the C the bonds reproduce). A
-// cell with a broken or softening bond is no longer a continuum: it is marked cracked.
+// cell with a broken or softening bond is no longer a continuum (Elements::cell_cracked, set by
+// the bond kernel): it is marked cracked.
 //
 // An intact cell whose stress is below the strength on every face by a bound is marked
 // kCellBelowStrength (with bound_faces), and the bond kernel's batches skip the failure check of
@@ -69,25 +70,17 @@ KOKKOS_INLINE_FUNCTION double bilinear_spring(double k, double u, double f_yield
 // two cells too. A margin of 1e-9 of the terms' size keeps rounding out of the decision.
 // (A bond's law is its cells' law: both cells of a bond belong to one body, of one material.)
 inline void compute_cell_stress(const View<int*>& cells, int count,
-                                const View<int* [6]>& element_bonds,
                                 const View<const LatticeStiffness*>& stiffness,
                                 const View<const BondLaw*>& laws, const Elements& elements,
-                                const Nodes& nodes, const Bonds& bonds, bool bound_faces = true) {
+                                const Nodes& nodes, bool bound_faces = true) {
   if (count == 0) return;
   Kokkos::parallel_for(
       "fracta::cell_stress", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(const int k) {
         const int e = cells(k);
         const BondLaw& law = laws(elements.material(e));
-        // Only cohesive bonds soften (the others never set an onset: not read).
-        const bool cohesive = law.fracture_energy > 0.0;
-        int intact = 1;
-        for (int a = 0; a < 6; ++a) {
-          const int b = element_bonds(e, a);
-          // A broken or softening (cracking) bond: the cell is no longer a continuum.
-          if (b >= 0 &&
-              (bonds.state(b) == kBondBroken || (cohesive && bonds.onset_separation(b) > 0.0)))
-            intact = 0;
-        }
+        // Cracked once one of its bonds broke or started to soften (BondForces marks it then):
+        // bonds never heal, so the mark is for good.
+        const int intact = elements.cell_cracked(e) ? 0 : 1;
         double green[3];
         cell_green_lagrange(elements, nodes, e, green);
         const double exx = green[0] - elements.cell_strain_offset(e, 0);
@@ -377,6 +370,15 @@ struct BondForces {
   }
 #endif
 
+  // A bond broke or started to soften: its cells are no longer a continuum, from the next cell
+  // stress on (compute_cell_stress; this sweep reads cell_intact only). Every writer writes 1.
+  KOKKOS_INLINE_FUNCTION void mark_cells_cracked(const int b) const {
+    for (int k = 0; k < 2; ++k) {
+      const int c = bonds.cells(b, k);
+      if (c >= 0) elements.cell_cracked(c) = 1;
+    }
+  }
+
   KOKKOS_INLINE_FUNCTION void bond(const int b, Sums<3>& acc) const {
     if (bonds.state(b) != kBondActive) return;
     const int i = bonds.nodes(b, 0), j = bonds.nodes(b, 1);
@@ -480,6 +482,7 @@ struct BondForces {
           if (onset > 0.0 && final_separation > onset) {
             breaks = false;
             bonds.onset_separation(b) = onset;
+            mark_cells_cracked(b);
             bonds.final_separation(b) = final_separation;
           } else {
             onset = 0.0;
@@ -521,6 +524,7 @@ struct BondForces {
         energy -= 0.5 * kc * overlap * overlap;
       }
       bonds.state(b) = kBondBroken;
+      mark_cells_cracked(b);
       bonds.fn(b) = 0.0;
       bonds.fs(b) = 0.0;
       acc.v[0] += energy;
