@@ -308,7 +308,7 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
     }
   bonds.cells = to_device_rows("bond_cells", bond_cells);
   model.elements.cell_stress = View<double* [3]>("fracta::cell_stress", ne);
-  model.elements.cell_intact = View<int*>("fracta::cell_intact", ne);
+  model.elements.cell_state = View<int*>("fracta::cell_state", ne);
   model.elements.cell_cracked = View<int*>("fracta::cell_cracked", ne);
   model.elements.cell_strain_offset = View<double* [3]>("fracta::cell_strain_offset", ne);
   // Capacity for every cell: adaptive conversion appends to the list.

@@ -48,7 +48,7 @@ void for_each_state_view(StateViews& a, StateViews& b, F&& f) {
   f("nodes.radius", n.radius, sn.radius);
   f("elements.cell_strain_offset", e.cell_strain_offset, se.cell_strain_offset);
   f("elements.cell_stress", e.cell_stress, se.cell_stress);
-  f("elements.cell_intact", e.cell_intact, se.cell_intact);
+  f("elements.cell_state", e.cell_state, se.cell_state);
   f("elements.cell_cracked", e.cell_cracked, se.cell_cracked);
   f("bonds.state", bo.state, sb.state);
   f("bonds.material", bo.material, sb.material);  // set by the conversion that activates it

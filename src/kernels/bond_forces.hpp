@@ -77,10 +77,9 @@ inline void compute_cell_stress(const View<int*>& cells, int count,
   Kokkos::parallel_for(
       "fracta::cell_stress", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(const int k) {
         const int e = cells(k);
-        const BondLaw& law = laws(elements.material(e));
         // Cracked once one of its bonds broke or started to soften (BondForces marks it then):
         // bonds never heal, so the mark is for good.
-        const int intact = elements.cell_cracked(e) ? 0 : 1;
+        int state = elements.cell_cracked(e) ? kCellCracked : kCellIntact;
         double green[3];
         cell_green_lagrange(elements, nodes, e, green);
         const double exx = green[0] - elements.cell_strain_offset(e, 0);
@@ -88,13 +87,14 @@ inline void compute_cell_stress(const View<int*>& cells, int count,
         const double exy = green[2] - elements.cell_strain_offset(e, 2);
         const LatticeStiffness s = stiffness(elements.material(e));
         const double c = s.youngs_modulus_eff / (1.0 - s.poisson_ratio_eff * s.poisson_ratio_eff);
-        elements.cell_stress(e, 0) = c * (exx + s.poisson_ratio_eff * eyy);
-        elements.cell_stress(e, 1) = c * (eyy + s.poisson_ratio_eff * exx);
-        elements.cell_stress(e, 2) = s.youngs_modulus_eff / (1.0 + s.poisson_ratio_eff) * exy;
-        int state = intact ? kCellIntact : kCellCracked;
-        if (intact && bound_faces) {
-          const double sxx = elements.cell_stress(e, 0), syy = elements.cell_stress(e, 1),
-                       sxy = elements.cell_stress(e, 2);
+        const double sxx = c * (exx + s.poisson_ratio_eff * eyy);
+        const double syy = c * (eyy + s.poisson_ratio_eff * exx);
+        const double sxy = s.youngs_modulus_eff / (1.0 + s.poisson_ratio_eff) * exy;
+        elements.cell_stress(e, 0) = sxx;
+        elements.cell_stress(e, 1) = syy;
+        elements.cell_stress(e, 2) = sxy;
+        if (state == kCellIntact && bound_faces) {
+          const BondLaw& law = laws(elements.material(e));
           const double centre = 0.5 * (sxx + syy);
           const double radius = sqrt_(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
           constexpr double margin = 1e-9;
@@ -111,7 +111,7 @@ inline void compute_cell_stress(const View<int*>& cells, int count,
           }
           if (below) state = kCellBelowStrength;
         }
-        elements.cell_intact(e) = state;
+        elements.cell_state(e) = state;
       });
 }
 
@@ -191,9 +191,13 @@ struct BondForces {
   int batch(const int k, Sums<3>& acc) const {
     constexpr int L = kLanes;
     const int b0 = slot(k);
-    // The list increases: consecutive slots, and the ends of the slots as (i, j) rows.
-    if (runs && slot(k + L - 1) == b0 + L - 1 && bonds.nodes.stride_0() == 2 &&
-        bonds.cells.stride_0() == 2) {
+    // The list increases: consecutive slots, whose ends and cells the batches load as (i, j) rows.
+    if (slot(k + L - 1) != b0 + L - 1 || bonds.nodes.stride_0() != 2 ||
+        bonds.cells.stride_0() != 2) {
+      for (int l = 0; l < L; ++l) bond(slot(k + l), acc);
+      return L;
+    }
+    if (runs) {
       const Int16 ends = load_ints16(&bonds.nodes(b0, 0));
       const Int16 first =
           __builtin_shufflevector(ends, ends, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1);
@@ -211,12 +215,9 @@ struct BondForces {
         for (int l = 0; l < run_start; ++l) bond(b0 + l, acc);
         return run_start;
       }
-      if (elastic_batch<false>(b0)) return L;
-    } else if (!runs && slot(k + L - 1) == b0 + L - 1 && bonds.cells.stride_0() == 2 &&
-               elastic_batch<false>(b0)) {
-      return L;
     }
-    for (int l = 0; l < L; ++l) bond(slot(k + l), acc);
+    if (!elastic_batch<false>(b0))
+      for (int l = 0; l < L; ++l) bond(b0 + l, acc);
     return L;
   }
 
@@ -288,16 +289,17 @@ struct BondForces {
     // The failure check: skipped where every lane has an intact cell and all its intact cells
     // are below their strength on every face (compute_cell_stress), else as bond() does it.
     const Int16 cell_pairs = load_ints16(&bonds.cells(b0, 0));  // stride_0 2, as the ends
+    const Int8 side_cells[2] = {even_lanes(cell_pairs), odd_lanes(cell_pairs)};
     Int8 cell_state[2];
     bool advancing[2];
     for (int side = 0; side < 2; ++side) {
-      const Int8 cv = side == 0 ? even_lanes(cell_pairs) : odd_lanes(cell_pairs);
+      const Int8 cv = side_cells[side];
       advancing[side] = kRun && cv[0] >= 0 && all_set(cv == cv[0] + Int8{0, 1, 2, 3, 4, 5, 6, 7});
       if (advancing[side]) {
-        cell_state[side] = load_ints8(&elements.cell_intact(cv[0]));
+        cell_state[side] = load_ints8(&elements.cell_state(cv[0]));
       } else {
         for (int l = 0; l < L; ++l)
-          cell_state[side][l] = cv[l] < 0 ? kCellCracked : elements.cell_intact(cv[l]);
+          cell_state[side][l] = cv[l] < 0 ? kCellCracked : elements.cell_state(cv[l]);
       }
     }
     const Int8 cracked = Int8{} + int{kCellCracked}, intact_only = Int8{} + int{kCellIntact},
@@ -309,7 +311,7 @@ struct BondForces {
       T s3[3] = {splat<T>(0.0), splat<T>(0.0), splat<T>(0.0)};
       T cells = splat<T>(0.0);
       for (int side = 0; side < 2; ++side) {
-        const Int8 cv = side == 0 ? even_lanes(cell_pairs) : odd_lanes(cell_pairs);
+        const Int8 cv = side_cells[side];
         if (all_set(cell_state[side] == cracked)) continue;
         const Mask8 intact = widen(cell_state[side] != cracked);
         T st[3] = {splat<T>(0.0), splat<T>(0.0), splat<T>(0.0)};
@@ -371,7 +373,7 @@ struct BondForces {
 #endif
 
   // A bond broke or started to soften: its cells are no longer a continuum, from the next cell
-  // stress on (compute_cell_stress; this sweep reads cell_intact only). Every writer writes 1.
+  // stress on (compute_cell_stress; this sweep reads cell_state only). Every writer writes 1.
   KOKKOS_INLINE_FUNCTION void mark_cells_cracked(const int b) const {
     for (int k = 0; k < 2; ++k) {
       const int c = bonds.cells(b, k);
@@ -444,7 +446,7 @@ struct BondForces {
       int cells = 0;
       for (int k = 0; k < 2; ++k) {
         const int c = bonds.cells(b, k);
-        if (c < 0 || elements.cell_intact(c) == kCellCracked) continue;
+        if (c < 0 || elements.cell_state(c) == kCellCracked) continue;
         for (int q = 0; q < 3; ++q) s3[q] += elements.cell_stress(c, q);
         ++cells;
       }

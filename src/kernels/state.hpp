@@ -127,7 +127,7 @@ struct Elements {
   View<int*> alive;   // 1 while the element is an active FE element (per mesh element)
   // Converted cells (the lattice): continuum stress from the discs' motion, for bond failure.
   View<double* [3]> cell_stress;  // Pa: xx, yy, xy (reference frame)
-  View<int*> cell_intact;         // CellState: cracked once a bond of the cell broke
+  View<int*> cell_state;          // CellState of the last cell stress (compute_cell_stress)
   View<int*> cell_cracked;        // 1 once a bond of the cell broke or started to soften, for good
   View<double* [3]> cell_strain_offset;  // strain beyond the elastic part at conversion
   int count = 0;                         // all elements of the mesh

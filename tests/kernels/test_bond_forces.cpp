@@ -354,7 +354,7 @@ TEST(BondForces, CellsBelowStrengthHaveNoFaceAtStrength) {
     compute_cell_stress(m.converted, m.converted_count, m.lattice_stiffness, m.bond_laws,
                         m.elements, m.nodes);
     const auto stress = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.cell_stress);
-    const auto state = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.cell_intact);
+    const auto state = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.cell_state);
     for (int e = 0; e < m.elements.count; ++e) {
       ASSERT_NE(state(e), kCellCracked);
       const bool reached = at_strength(stress(e, 0), stress(e, 1), stress(e, 2));
