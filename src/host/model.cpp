@@ -307,6 +307,29 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
       if (b >= 0) bond_cells[b][bond_cells[b][0] < 0 ? 0 : 1] = e;
     }
   bonds.cells = to_device_rows("bond_cells", bond_cells);
+  // Where the next slot continues a run (Bonds::run_next; BondForces::batch relies on each
+  // condition: the ends and cells it does not read are one on per lane, and one law serves all).
+  {
+    std::vector<unsigned char> run_next(nb, 0);
+    for (int b = 0; b + 1 < nb; ++b) {
+      bool run = slot_nodes[b + 1][0] == slot_nodes[b][0] + 1 &&
+                 slot_nodes[b + 1][1] == slot_nodes[b][1] + 1;
+      int material = -1;
+      for (int side = 0; side < 2; ++side) {
+        const int cell = bond_cells[b][side], next = bond_cells[b + 1][side];
+        if (cell < 0) {
+          run = run && next < 0;
+          continue;
+        }
+        run = run && next == cell + 1;
+        if (!run) break;
+        if (material < 0) material = m.element_material[cell];
+        run = m.element_material[cell] == material && m.element_material[next] == material;
+      }
+      run_next[b] = run && material >= 0;
+    }
+    bonds.run_next = to_device_1d<unsigned char>("bond_run_next", run_next);
+  }
   model.elements.cell_stress = View<double* [3]>("fracta::cell_stress", ne);
   model.elements.cell_state = View<int*>("fracta::cell_state", ne);
   model.elements.cell_cracked = View<int*>("fracta::cell_cracked", ne);

@@ -148,6 +148,11 @@ KOKKOS_INLINE_FUNCTION double bond_work(double fn_old, double fn_new, double fs_
   return w;
 }
 
+// How the CPU bond kernel groups bonds (BondForces::chunk): SIMD batches that load runs of
+// slots as whole vectors where they can (the default), SIMD batches that gather every lane, or
+// bond by bond (tests compare the three).
+enum class BondBatches { runs, gathered, none };
+
 struct BondForces {
   Nodes nodes;
   Elements elements;
@@ -159,9 +164,7 @@ struct BondForces {
   // Forces added straight into nodes.f and nodes.moment (kernels/scatter.hpp), atomically when
   // the bonds do not run by the chunks of a ScatterPlan (GPUs).
   bool atomic = true;
-  // CPU batches: whether runs of slots load their node data as vectors (batch()); false gathers
-  // lane by lane everywhere (tests compare the two).
-  bool runs = true;
+  BondBatches batches = BondBatches::runs;  // CPU grouping (chunk())
 
   KOKKOS_INLINE_FUNCTION int slot(const int k) const { return list.extent(0) > 0 ? list(k) : k; }
 
@@ -173,22 +176,32 @@ struct BondForces {
   KOKKOS_INLINE_FUNCTION void chunk(const int begin, const int end, Sums<3>& acc) const {
     int k = begin;
 #ifdef FRACTA_HOST_SIMD
-    while (k + kLanes <= end) {
-      const int advance = batch(k, acc);
-      k += advance;
+    if (batches != BondBatches::none) {
+      RunLanes carried;
+      while (k + kLanes <= end) k += batch(k, carried, acc);
     }
 #endif
     for (; k < end; ++k) bond(slot(k), acc);
   }
 
 #ifdef FRACTA_HOST_SIMD
+  // The first lane of a run batch: its slot, ends and cells (-1: none on that side); lane l has
+  // slot + l, i + l, j + l and each cell + l (Bonds::run_next).
+  struct RunLanes {
+    int slot = -1;
+    int i = 0, j = 0;
+    int cell[2] = {-1, -1};
+  };
+
   // The bonds from list position k: a batch of kLanes, or the bonds before the start of a run.
-  // Returns how many it did. A run is a stretch of consecutive slots whose two ends both advance
-  // by one node per slot (build_lattice orders the slots so): a batch inside one loads and adds
-  // the node data as whole vectors. A window that holds the start of a run (one or two breaks)
-  // goes bond by bond up to it, so the batches that follow line up with the run; a window with
-  // more breaks (an irregular mesh) is one batch with its node data gathered lane by lane.
-  int batch(const int k, Sums<3>& acc) const {
+  // Returns how many it did. A run is a stretch of consecutive slots whose ends and cells all
+  // advance by one per slot (Bonds::run_next; build_lattice orders the slots so): a batch inside
+  // one loads and adds the node data as whole vectors, and reads none of its slots' ends, cells
+  // or materials (the first lane's are carried on from the run's previous batch: `carried`). A
+  // window that holds the start of a run (one or two breaks) goes bond by bond up to it, so the
+  // batches that follow line up with the run; a window with more breaks (an irregular mesh) is
+  // one batch with its data gathered lane by lane.
+  int batch(const int k, RunLanes& carried, Sums<3>& acc) const {
     constexpr int L = kLanes;
     const int b0 = slot(k);
     // The list increases: consecutive slots, whose ends and cells the batches load as (i, j) rows.
@@ -197,26 +210,44 @@ struct BondForces {
       for (int l = 0; l < L; ++l) bond(slot(k + l), acc);
       return L;
     }
-    if (runs) {
-      const Int16 ends = load_ints16(&bonds.nodes(b0, 0));
-      const Int16 first =
-          __builtin_shufflevector(ends, ends, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1);
-      if (all_set(ends == first + Int16{0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7})) {
-        if (!elastic_batch<true>(b0))
+    if (batches == BondBatches::runs && bonds.run_next.extent(0) > 0) {
+      // Byte l: whether slot b0 + l + 1 continues slot b0 + l (b0 + 7 < count: k + L <= end).
+      unsigned long long next;
+      static_assert(sizeof(next) == L, "one byte per lane");
+      __builtin_memcpy(&next, bonds.run_next.data() + b0, sizeof(next));
+      constexpr unsigned long long kWithinBatch = 0x00ffffffffffffffull;
+      if ((next & kWithinBatch) == (0x0101010101010101ull & kWithinBatch)) {
+        RunLanes lanes = carried;
+        if (lanes.slot != b0) {
+          // A run's first batch starts at a multiple of kLanes (bond by bond up to it), so that
+          // the batches load and store whole cache lines of the bond arrays.
+          if (b0 % L != 0) {
+            for (int l = 0; l < L - b0 % L; ++l) bond(b0 + l, acc);
+            return L - b0 % L;
+          }
+          lanes = {
+              b0, bonds.nodes(b0, 0), bonds.nodes(b0, 1), {bonds.cells(b0, 0), bonds.cells(b0, 1)}};
+        }
+        if (!elastic_batch<true>(b0, lanes))
           for (int l = 0; l < L; ++l) bond(b0 + l, acc);
+        carried = RunLanes{};
+        if (next >> 56) {  // the run goes on into the next batch
+          carried = {b0 + L, lanes.i + L, lanes.j + L, {lanes.cell[0], lanes.cell[1]}};
+          for (int& c : carried.cell)
+            if (c >= 0) c += L;
+        }
         return L;
       }
-      unsigned breaks = 0;
+      unsigned breaks = 0;  // lane l starts a new run
       for (int l = 1; l < L; ++l)
-        if (ends[2 * l] != ends[2 * l - 2] + 1 || ends[2 * l + 1] != ends[2 * l - 1] + 1)
-          breaks |= 1u << l;
+        if (((next >> (8 * (l - 1))) & 0xff) == 0) breaks |= 1u << l;
       if (__builtin_popcount(breaks) <= 2) {
         const int run_start = 31 - __builtin_clz(breaks);
         for (int l = 0; l < run_start; ++l) bond(b0 + l, acc);
         return run_start;
       }
     }
-    if (!elastic_batch<false>(b0))
+    if (!elastic_batch<false>(b0, RunLanes{}))
       for (int l = 0; l < L; ++l) bond(b0 + l, acc);
     return L;
   }
@@ -224,19 +255,21 @@ struct BondForces {
   // Eight bonds at once in SIMD lanes (simd.hpp), the common case of a lattice at work: the
   // consecutive active slots b0 .. b0 + 7 of one material with elastic springs (no yield stress),
   // none softening (onset 0, so damage 0) and none reaching its strength this step. kRun: the
-  // slots are a run (batch()), so the node data of each end move as vectors; the cells too, where
-  // they advance by one per slot. The arithmetic is bond()'s on that path, lane by lane, in the
-  // same order, and the adds to each node come in bond()'s order (an end j of an earlier lane
-  // before the end i of a later one: the j ends are added first). If the batch does not qualify,
-  // or a lane reaches its strength, it returns false before writing anything, and the caller
-  // runs bond() for each (rare: a bond breaks or starts to soften once).
+  // slots are the run of `run` (batch()), so the node data of each end and the cell data of each
+  // side move as vectors, and the law is the one of the run's cells (a bond's material is the one
+  // of the cell that activated it: activate_element_bonds). The arithmetic is bond()'s on that
+  // path, lane by lane, in the same order, and the adds to each node come in bond()'s order (an end
+  // j of an earlier lane before the end i of a later one: the j ends are added first). If the batch
+  // does not qualify, or a lane reaches its strength, it returns false before writing anything, and
+  // the caller runs bond() for each (rare: a bond breaks or starts to soften once).
   template <bool kRun>
-  bool elastic_batch(const int b0) const {
+  bool elastic_batch(const int b0, const RunLanes& run) const {
     using T = Double8;
     constexpr int L = 8;
-    const int material = bonds.material(b0);
+    const int material =
+        kRun ? elements.material(run.cell[0] >= 0 ? run.cell[0] : run.cell[1]) : bonds.material(b0);
     if (!all_set(load_ints8(bonds.state.data() + b0) == static_cast<int>(kBondActive)) ||
-        !all_set(load_ints8(bonds.material.data() + b0) == material))
+        (!kRun && !all_set(load_ints8(bonds.material.data() + b0) == material)))
       return false;
     const BondLaw& law = laws(material);
     if (law.yield_stress > 0.0) return false;
@@ -245,9 +278,9 @@ struct BondForces {
     for (int l = 0; l < L; ++l) b[l] = b0 + l;
     if (cohesive && any_lane(load_lanes<T>(bonds.onset_separation.data(), b, true) != 0.0))
       return false;
-    for (int l = 0; l < L; ++l) {  // a run: i[0] + l and j[0] + l
-      i[l] = bonds.nodes(kRun ? b0 : b0 + l, 0) + (kRun ? l : 0);
-      j[l] = bonds.nodes(kRun ? b0 : b0 + l, 1) + (kRun ? l : 0);
+    for (int l = 0; l < L; ++l) {
+      i[l] = kRun ? run.i + l : bonds.nodes(b0 + l, 0);
+      j[l] = kRun ? run.j + l : bonds.nodes(b0 + l, 1);
     }
     // Node data of the ends: (x, y) pairs of the [n][2] views and the per-node columns.
     const auto pair = [&](const View<double* [2]>& a, const int(&n)[L], T& ax, T& ay) {
@@ -288,13 +321,21 @@ struct BondForces {
     T fs = ks > 0.0 ? fs_old + ks * shear_increment : splat<T>(0.0);  // bond() with D = 0
     // The failure check: skipped where every lane has an intact cell and all its intact cells
     // are below their strength on every face (compute_cell_stress), else as bond() does it.
-    const Int16 cell_pairs = load_ints16(&bonds.cells(b0, 0));  // stride_0 2, as the ends
-    const Int8 side_cells[2] = {even_lanes(cell_pairs), odd_lanes(cell_pairs)};
+    Int8 side_cells[2];
+    if (kRun) {
+      for (int side = 0; side < 2; ++side)
+        side_cells[side] =
+            run.cell[side] >= 0 ? run.cell[side] + Int8{0, 1, 2, 3, 4, 5, 6, 7} : Int8{} - 1;
+    } else {
+      const Int16 cell_pairs = load_ints16(&bonds.cells(b0, 0));  // stride_0 2, as the ends
+      side_cells[0] = even_lanes(cell_pairs);
+      side_cells[1] = odd_lanes(cell_pairs);
+    }
     Int8 cell_state[2];
     bool advancing[2];
     for (int side = 0; side < 2; ++side) {
       const Int8 cv = side_cells[side];
-      advancing[side] = kRun && cv[0] >= 0 && all_set(cv == cv[0] + Int8{0, 1, 2, 3, 4, 5, 6, 7});
+      advancing[side] = kRun && cv[0] >= 0;
       if (advancing[side]) {
         cell_state[side] = load_ints8(&elements.cell_state(cv[0]));
       } else {
@@ -579,16 +620,17 @@ inline int bond_list_count(const Bonds& bonds) {
 
 // Bond forces added into nodes.f and nodes.moment. The list is increasing, so the order of
 // every node's sum is the one of the sweep over all slots. Without a usable bonds.scatter (the
-// plan of the list: update_scatter_plan) the forces are added atomically. runs: BondForces::runs.
+// plan of the list: update_scatter_plan) the forces are added atomically. batches: how the CPU
+// kernel groups the bonds (the default everywhere but in tests).
 inline BondStepResult compute_bond_forces(const Nodes& nodes, const Elements& elements,
                                           const Bonds& bonds, const View<const BondLaw*>& laws,
-                                          double dt, bool runs = true) {
+                                          double dt, BondBatches batches = BondBatches::runs) {
   BondStepResult r;
   if (bonds.count == 0) return r;
   const int count = bond_list_count(bonds);
   BondForces forces{
       nodes, elements, bonds, laws, dt, bonds_listed(bonds) ? bonds.used : View<int*>(), true};
-  forces.runs = runs;
+  forces.batches = batches;
   Sums<3> s;
   if (bonds.scatter.usable(count)) {
     forces.atomic = false;

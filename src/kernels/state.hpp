@@ -81,6 +81,11 @@ struct Bonds {
   View<double*> onset_separation;
   View<double*> final_separation;  // effective separation at which it breaks (m)
   View<int* [2]> cells;            // converted cells whose face (edge) or body (diagonal) it is; -1
+  // 1 where slot b + 1 continues a run of slot b: both ends one node on, each cell side one cell
+  // on (or none on both), the cells all of one material. Built with the slots (update_bond_runs
+  // in bond_forces.hpp), from data that never change: not state. The CPU batches of a run read
+  // it instead of the slots' ends, cells and materials (BondForces::batch).
+  View<unsigned char*> run_next;
   // Forces without atomics on CPUs: the chunks of the used list (or of every slot), coloured so
   // that no two chunks of a colour share a disc (kernels/scatter.hpp; update_scatter_plan after
   // every change of `used`).

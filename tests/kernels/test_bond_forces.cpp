@@ -154,10 +154,11 @@ namespace {
 // The bond kernel runs batches of eight consecutive elastic bonds of one material as one SIMD
 // batch (BondForces::elastic_batch) and everything else bond by bond. Both must give the same
 // forces: a lattice loaded for some steps (pressure on the left edge, a shear traction on the
-// top, so the discs move, rotate and shear their bonds) is evaluated as is (batches: those of
-// runs of slots with vector loads, and once with gathered batches only) and, from the same
-// state, with its bonds alternating between two copies of the material (every batch mixed, so
-// bond by bond). build_lattice's slot order must give runs (else the run path goes untested). In
+// top, so the discs move, rotate and shear their bonds) is evaluated three times from the same
+// state: with batches of runs of slots (vector loads, the default), with gathered batches only,
+// and bond by bond. build_lattice's slot order must give runs (else the run path goes untested),
+// and run batches take the law from the cells (so every active bond's material must be its
+// cells'). In
 // the weak variant (a tensile strength the load exceeds, with softening) bonds reach their strength
 // in that evaluation, so batches fall back when a lane does. Tolerance: 1e-13 of each field's
 // largest value (the two paths may contract a*b+c into FMA differently).
@@ -196,22 +197,42 @@ TEST(BondForces, SimdBatchesMatchBondByBond) {
     const auto laws = m.bond_laws;
     {
       const auto ends = Kokkos::create_mirror_view_and_copy(HostSpace(), b.nodes);
+      const auto cells = Kokkos::create_mirror_view_and_copy(HostSpace(), b.cells);
+      const auto run_next = Kokkos::create_mirror_view_and_copy(HostSpace(), b.run_next);
       int in_runs = 0;
-      for (int k = 0; k + 1 < b.count; ++k)
-        in_runs += ends(k + 1, 0) == ends(k, 0) + 1 && ends(k + 1, 1) == ends(k, 1) + 1;
+      for (int k = 0; k + 1 < b.count; ++k) {
+        const bool cells_on = [&] {
+          for (int side = 0; side < 2; ++side)
+            if (cells(k, side) < 0 ? cells(k + 1, side) >= 0
+                                   : cells(k + 1, side) != cells(k, side) + 1)
+              return false;
+          return true;
+        }();
+        const bool run = ends(k + 1, 0) == ends(k, 0) + 1 && ends(k + 1, 1) == ends(k, 1) + 1 &&
+                         cells_on;  // one material here
+        EXPECT_EQ(run_next(k), run ? 1 : 0) << "slot " << k;
+        in_runs += run;
+      }
       EXPECT_GT(in_runs, 0.9 * b.count);
     }
-    auto material = Kokkos::create_mirror(HostSpace(), b.material);
-    Kokkos::deep_copy(material, b.material);
-    View<BondLaw*> two("two_laws", 2);  // two copies of the law
-    {
-      auto h = Kokkos::create_mirror_view(two);
-      auto one = Kokkos::create_mirror_view_and_copy(HostSpace(), laws);
-      h(0) = h(1) = one(0);
-      Kokkos::deep_copy(two, h);
-    }
-    auto alternating = Kokkos::create_mirror(HostSpace(), b.material);
-    for (size_t k = 0; k < alternating.extent(0); ++k) alternating(k) = static_cast<int>(k % 2);
+    // Every active bond has its cells' material (the bond forces read it so in runs).
+    const auto check_materials = [&] {
+      const auto state = Kokkos::create_mirror_view_and_copy(HostSpace(), b.state);
+      const auto material = Kokkos::create_mirror_view_and_copy(HostSpace(), b.material);
+      const auto cells = Kokkos::create_mirror_view_and_copy(HostSpace(), b.cells);
+      const auto cell_material =
+          Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.material);
+      int active = 0;
+      for (int k = 0; k < b.count; ++k) {
+        if (state(k) != kBondActive) continue;
+        ++active;
+        for (int side = 0; side < 2; ++side) {
+          if (cells(k, side) < 0) continue;
+          EXPECT_EQ(material(k), cell_material(cells(k, side)));
+        }
+      }
+      EXPECT_GT(active, 0);
+    };
     // Everything the bond kernel writes.
     const std::vector<View<double*>> state = {
         b.fn, b.fs, b.damage, b.onset_separation, b.final_separation, b.plastic_work};
@@ -239,13 +260,13 @@ TEST(BondForces, SimdBatchesMatchBondByBond) {
       for (int pass = 0; pass < 3; ++pass) {
         restore();
         // Pass 0 batches with the runs' vector loads, pass 1 gathered batches only, pass 2 bond
-        // by bond: alternating copies of the law.
-        m.bond_laws = pass < 2 ? laws : two;
-        Kokkos::deep_copy(b.material, pass < 2 ? material : alternating);
+        // by bond.
+        const BondBatches batches[3] = {BondBatches::runs, BondBatches::gathered,
+                                        BondBatches::none};
         Kokkos::deep_copy(m.nodes.f, 0.0);
         Kokkos::deep_copy(m.nodes.moment, 0.0);
         r[pass].broken =
-            compute_bond_forces(m.nodes, m.elements, b, m.bond_laws, sim.dt(), pass == 0).broken;
+            compute_bond_forces(m.nodes, m.elements, b, laws, sim.dt(), batches[pass]).broken;
         r[pass].f = host_values(m.nodes.f);
         r[pass].moment = host_values(m.nodes.moment);
         r[pass].fn = host_values(b.fn);
@@ -253,8 +274,6 @@ TEST(BondForces, SimdBatchesMatchBondByBond) {
         r[pass].onset = host_values(b.onset_separation);
       }
       restore();
-      m.bond_laws = laws;
-      Kokkos::deep_copy(b.material, material);
       auto hf = Kokkos::create_mirror_view(m.nodes.f);
       std::copy(f.begin(), f.end(), hf.data());
       Kokkos::deep_copy(m.nodes.f, hf);
@@ -266,6 +285,7 @@ TEST(BondForces, SimdBatchesMatchBondByBond) {
       return reached;
     };
     for (int s = 0; s < 150; ++s) sim.step();
+    check_materials();
     int reached = evaluate_both();
     // Weak: on until an evaluation has bonds reaching their strength (batches fall back).
     for (int s = 0; weak && reached == 0 && s < 2000; ++s) {
