@@ -307,8 +307,9 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
       if (b >= 0) bond_cells[b][bond_cells[b][0] < 0 ? 0 : 1] = e;
     }
   bonds.cells = to_device_rows("bond_cells", bond_cells);
-  // Where the next slot continues a run (Bonds::run_next; BondForces::batch relies on each
-  // condition: the ends and cells it does not read are one on per lane, and one law serves all).
+  // Where the next slot continues a run, and which slots are diagonals (Bonds::run_next;
+  // BondForces::batch relies on each condition: the ends and cells it does not read are one on
+  // per lane, one law serves all, and a run is all edges or all diagonals).
   {
     std::vector<unsigned char> run_next(nb, 0);
     for (int b = 0; b + 1 < nb; ++b) {
@@ -326,8 +327,11 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
         if (material < 0) material = m.element_material[cell];
         run = m.element_material[cell] == material && m.element_material[next] == material;
       }
-      run_next[b] = run && material >= 0;
+      run = run && slot_kind[b + 1] == slot_kind[b];
+      run_next[b] = (run && material >= 0 ? kRunContinues : 0) |
+                    (slot_kind[b] == kBondDiagonal ? kRunNormalOnly : 0);
     }
+    if (nb > 0 && slot_kind[nb - 1] == kBondDiagonal) run_next[nb - 1] = kRunNormalOnly;
     bonds.run_next = to_device_1d<unsigned char>("bond_run_next", run_next);
   }
   model.elements.cell_stress = View<double* [3]>("fracta::cell_stress", ne);

@@ -211,12 +211,14 @@ struct BondForces {
       return L;
     }
     if (batches == BondBatches::runs && bonds.run_next.extent(0) > 0) {
-      // Byte l: whether slot b0 + l + 1 continues slot b0 + l (b0 + 7 < count: k + L <= end).
+      // Byte l: Bonds::run_next of slot b0 + l (b0 + 7 < count: k + L <= end); its bit
+      // kRunContinues: whether slot b0 + l + 1 continues slot b0 + l.
       unsigned long long next;
       static_assert(sizeof(next) == L, "one byte per lane");
       __builtin_memcpy(&next, bonds.run_next.data() + b0, sizeof(next));
+      constexpr unsigned long long kContinues = 0x0101010101010101ull * kRunContinues;
       constexpr unsigned long long kWithinBatch = 0x00ffffffffffffffull;
-      if ((next & kWithinBatch) == (0x0101010101010101ull & kWithinBatch)) {
+      if ((next & kContinues & kWithinBatch) == (kContinues & kWithinBatch)) {
         RunLanes lanes = carried;
         if (lanes.slot != b0) {
           // A run's first batch starts at a multiple of kLanes (bond by bond up to it), so that
@@ -228,10 +230,12 @@ struct BondForces {
           lanes = {
               b0, bonds.nodes(b0, 0), bonds.nodes(b0, 1), {bonds.cells(b0, 0), bonds.cells(b0, 1)}};
         }
-        if (!elastic_batch<true>(b0, lanes))
+        const bool done = (next & kRunNormalOnly) ? elastic_batch<true, false>(b0, lanes)
+                                                  : elastic_batch<true, true>(b0, lanes);
+        if (!done)
           for (int l = 0; l < L; ++l) bond(b0 + l, acc);
         carried = RunLanes{};
-        if (next >> 56) {  // the run goes on into the next batch
+        if ((next >> 56) & kRunContinues) {  // the run goes on into the next batch
           carried = {b0 + L, lanes.i + L, lanes.j + L, {lanes.cell[0], lanes.cell[1]}};
           for (int& c : carried.cell)
             if (c >= 0) c += L;
@@ -240,14 +244,14 @@ struct BondForces {
       }
       unsigned breaks = 0;  // lane l starts a new run
       for (int l = 1; l < L; ++l)
-        if (((next >> (8 * (l - 1))) & 0xff) == 0) breaks |= 1u << l;
+        if (((next >> (8 * (l - 1))) & kRunContinues) == 0) breaks |= 1u << l;
       if (__builtin_popcount(breaks) <= 2) {
         const int run_start = 31 - __builtin_clz(breaks);
         for (int l = 0; l < run_start; ++l) bond(b0 + l, acc);
         return run_start;
       }
     }
-    if (!elastic_batch<false>(b0, RunLanes{}))
+    if (!elastic_batch<false, true>(b0, RunLanes{}))
       for (int l = 0; l < L; ++l) bond(b0 + l, acc);
     return L;
   }
@@ -257,13 +261,17 @@ struct BondForces {
   // none softening (onset 0, so damage 0) and none reaching its strength this step. kRun: the
   // slots are the run of `run` (batch()), so the node data of each end and the cell data of each
   // side move as vectors, and the law is the one of the run's cells (a bond's material is the one
-  // of the cell that activated it: activate_element_bonds). The arithmetic is bond()'s on that
+  // of the cell that activated it: activate_element_bonds). !kShear: the run's slots are diagonals,
+  // which have no shear spring (ks = 0 and fs = 0 always: activate_element_bonds and
+  // convert_cells give shear only to edges), so the batch reads no velocities, spins, radii, ks
+  // or fs, and adds no moments: bond() adds l fs = 0 there. The arithmetic is bond()'s on that
   // path, lane by lane, in the same order, and the adds to each node come in bond()'s order (an end
   // j of an earlier lane before the end i of a later one: the j ends are added first). If the batch
   // does not qualify, or a lane reaches its strength, it returns false before writing anything, and
   // the caller runs bond() for each (rare: a bond breaks or starts to soften once).
-  template <bool kRun>
+  template <bool kRun, bool kShear>
   bool elastic_batch(const int b0, const RunLanes& run) const {
+    static_assert(kRun || kShear, "gathered batches take the general path");
     using T = Double8;
     constexpr int L = 8;
     const int material =
@@ -302,23 +310,27 @@ struct BondForces {
     const T length = sqrt_(dx * dx + dy * dy);
     const T inverse_length = 1.0 / length;
     const T nx = dx * inverse_length, ny = dy * inverse_length;
-    const T ri = column(nodes.radius, i);
-    const T rj = column(nodes.radius, j);
-    const T length_share = length / (ri + rj);
-    const T li = length_share * ri, lj = length_share * rj;
     const T kn = load_lanes<T>(bonds.kn.data(), b, true);
-    const T ks = load_lanes<T>(bonds.ks.data(), b, true);
     const T L0 = load_lanes<T>(bonds.length0.data(), b, true);
     const T up = load_lanes<T>(bonds.plastic_n.data(), b, true);
-    const T fs_old = load_lanes<T>(bonds.fs.data(), b, true);
     T fn = kn * ((length - L0) - up);  // bilinear_spring without a yield force
-    T vxi, vyi, vxj, vyj;
-    pair(nodes.v, i, vxi, vyi);
-    pair(nodes.v, j, vxj, vyj);
-    const T dvt = -(vxj - vxi) * ny + (vyj - vyi) * nx -
-                  (li * column(nodes.spin, i) + lj * column(nodes.spin, j));
-    const T shear_increment = dvt * dt;
-    T fs = ks > 0.0 ? fs_old + ks * shear_increment : splat<T>(0.0);  // bond() with D = 0
+    T fs = splat<T>(0.0), li = fs, lj = fs;
+    if constexpr (kShear) {
+      const T ri = column(nodes.radius, i);
+      const T rj = column(nodes.radius, j);
+      const T length_share = length / (ri + rj);
+      li = length_share * ri;
+      lj = length_share * rj;
+      const T ks = load_lanes<T>(bonds.ks.data(), b, true);
+      const T fs_old = load_lanes<T>(bonds.fs.data(), b, true);
+      T vxi, vyi, vxj, vyj;
+      pair(nodes.v, i, vxi, vyi);
+      pair(nodes.v, j, vxj, vyj);
+      const T dvt = -(vxj - vxi) * ny + (vyj - vyi) * nx -
+                    (li * column(nodes.spin, i) + lj * column(nodes.spin, j));
+      const T shear_increment = dvt * dt;
+      fs = ks > 0.0 ? fs_old + ks * shear_increment : splat<T>(0.0);  // bond() with D = 0
+    }
     // The failure check: skipped where every lane has an intact cell and all its intact cells
     // are below their strength on every face (compute_cell_stress), else as bond() does it.
     Int8 side_cells[2];
@@ -390,15 +402,15 @@ struct BondForces {
       if (any_lane(reaches)) return false;
     }
     store_lanes(fn, bonds.fn.data(), b, true);
-    store_lanes(fs, bonds.fs.data(), b, true);
+    if constexpr (kShear) store_lanes(fs, bonds.fs.data(), b, true);
     const T fx = fn * nx - fs * ny, fy = fn * ny + fs * nx;
     const T mi = li * fs, mj = lj * fs;
     if (kRun && nodes.f.stride_0() == 2) {
       // The j ends first: bond()'s order where the two ranges overlap (j = i + d, 0 < d < 8).
       add_pairs(&nodes.f(j[0], 0), -fx, -fy);
-      add_lanes(mj, nodes.moment.data(), j, true);
+      if constexpr (kShear) add_lanes(mj, nodes.moment.data(), j, true);
       add_pairs(&nodes.f(i[0], 0), fx, fy);
-      add_lanes(mi, nodes.moment.data(), i, true);
+      if constexpr (kShear) add_lanes(mi, nodes.moment.data(), i, true);
       return true;
     }
     for (int l = 0; l < L; ++l) {

@@ -58,6 +58,9 @@ enum BondKind : int { kBondEdge = 0, kBondDiagonal = 1 };
 // along n = (xj - xi)/|xj - xi|; shear force fs along t = n rotated by +90 degrees. The force on
 // disc i is fn n + fs t (on j the opposite); disc i receives the moment l_i fs, with l_i the
 // distance from its centre to the contact point (l_i = r_i at the rest length).
+// Bits of Bonds::run_next.
+enum BondRunBits : unsigned char { kRunContinues = 1, kRunNormalOnly = 2 };
+
 struct Bonds {
   View<int* [2]> nodes;
   View<int*> kind;             // BondKind
@@ -81,10 +84,11 @@ struct Bonds {
   View<double*> onset_separation;
   View<double*> final_separation;  // effective separation at which it breaks (m)
   View<int* [2]> cells;            // converted cells whose face (edge) or body (diagonal) it is; -1
-  // 1 where slot b + 1 continues a run of slot b: both ends one node on, each cell side one cell
-  // on (or none on both), the cells all of one material. Built with the slots (update_bond_runs
-  // in bond_forces.hpp), from data that never change: not state. The CPU batches of a run read
-  // it instead of the slots' ends, cells and materials (BondForces::batch).
+  // Per slot b, built with the slots (build_lattice) from data that never change (not state):
+  // kRunContinues where slot b + 1 continues a run of slot b (both ends one node on, each cell
+  // side one cell on or none on both, the same kind, the cells all of one material), and
+  // kRunNormalOnly where b is a diagonal (no shear spring). The CPU batches of a run read it
+  // instead of the slots' ends, cells and materials (BondForces::batch).
   View<unsigned char*> run_next;
   // Forces without atomics on CPUs: the chunks of the used list (or of every slot), coloured so
   // that no two chunks of a colour share a disc (kernels/scatter.hpp; update_scatter_plan after

@@ -157,10 +157,10 @@ namespace {
 // top, so the discs move, rotate and shear their bonds) is evaluated three times from the same
 // state: with batches of runs of slots (vector loads, the default), with gathered batches only,
 // and bond by bond. build_lattice's slot order must give runs (else the run path goes untested),
-// and run batches take the law from the cells (so every active bond's material must be its
-// cells'). In
-// the weak variant (a tensile strength the load exceeds, with softening) bonds reach their strength
-// in that evaluation, so batches fall back when a lane does. Tolerance: 1e-13 of each field's
+// run batches take the law from the cells (so every active bond's material must be its cells'),
+// and diagonal runs skip the shear (so a diagonal's ks and fs must stay 0). In the weak variant
+// (a tensile strength the load exceeds, with softening) bonds reach their strength in that
+// evaluation, so batches fall back when a lane does. Tolerance: 1e-13 of each field's
 // largest value (the two paths may contract a*b+c into FMA differently).
 struct BondEvaluation {
   std::vector<double> f, moment, fn, fs, onset;
@@ -199,6 +199,7 @@ TEST(BondForces, SimdBatchesMatchBondByBond) {
       const auto ends = Kokkos::create_mirror_view_and_copy(HostSpace(), b.nodes);
       const auto cells = Kokkos::create_mirror_view_and_copy(HostSpace(), b.cells);
       const auto run_next = Kokkos::create_mirror_view_and_copy(HostSpace(), b.run_next);
+      const auto kind = Kokkos::create_mirror_view_and_copy(HostSpace(), b.kind);
       int in_runs = 0;
       for (int k = 0; k + 1 < b.count; ++k) {
         const bool cells_on = [&] {
@@ -209,14 +210,28 @@ TEST(BondForces, SimdBatchesMatchBondByBond) {
           return true;
         }();
         const bool run = ends(k + 1, 0) == ends(k, 0) + 1 && ends(k + 1, 1) == ends(k, 1) + 1 &&
-                         cells_on;  // one material here
-        EXPECT_EQ(run_next(k), run ? 1 : 0) << "slot " << k;
+                         cells_on && kind(k + 1) == kind(k);  // one material here
+        EXPECT_EQ(run_next(k),
+                  (run ? kRunContinues : 0) | (kind(k) == kBondDiagonal ? kRunNormalOnly : 0))
+            << "slot " << k;
         in_runs += run;
       }
       EXPECT_GT(in_runs, 0.9 * b.count);
     }
-    // Every active bond has its cells' material (the bond forces read it so in runs).
+    // Every active bond has its cells' material (the bond forces read it so in runs), and a
+    // diagonal has no shear (its run batches read neither ks nor fs).
     const auto check_materials = [&] {
+      const auto kind = Kokkos::create_mirror_view_and_copy(HostSpace(), b.kind);
+      const auto ks = Kokkos::create_mirror_view_and_copy(HostSpace(), b.ks);
+      const auto fs = Kokkos::create_mirror_view_and_copy(HostSpace(), b.fs);
+      int diagonals = 0;
+      for (int k = 0; k < b.count; ++k) {
+        if (kind(k) != kBondDiagonal) continue;
+        ++diagonals;
+        EXPECT_EQ(ks(k), 0.0);
+        EXPECT_EQ(fs(k), 0.0);
+      }
+      EXPECT_GT(diagonals, 0);
       const auto state = Kokkos::create_mirror_view_and_copy(HostSpace(), b.state);
       const auto material = Kokkos::create_mirror_view_and_copy(HostSpace(), b.material);
       const auto cells = Kokkos::create_mirror_view_and_copy(HostSpace(), b.cells);
@@ -301,6 +316,7 @@ TEST(BondForces, SimdBatchesMatchBondByBond) {
       EXPECT_EQ(r[pass].onset, r[2].onset);
       EXPECT_EQ(r[pass].broken, r[2].broken);
     }
+    check_materials();
     if (weak)
       EXPECT_GT(reached, 0);  // not vacuous
     else
