@@ -658,7 +658,9 @@ inline BondStepResult compute_bond_forces(const Nodes& nodes, const Elements& el
 }
 
 // The scatter plan of the bond slots (kernels/scatter.hpp), cut once from the slots and located
-// in the bond list after every change of it.
+// in the bond list after every change of it. Chunks of up to 8192 slots: about as many discs as
+// an element chunk spans nodes (scatter_chunk_size).
+inline constexpr int kBondChunkMax = 8192;
 inline void update_scatter_plan(Bonds& bonds) {
   const auto list = bonds_listed(bonds) ? bonds.used : View<int*>();
   if (bonds.scatter.universe == bonds.count) {
@@ -672,7 +674,7 @@ inline void update_scatter_plan(Bonds& bonds) {
         lo = min_(ends(b, 0), ends(b, 1));
         hi = max_(ends(b, 0), ends(b, 1));
       },
-      list, bond_list_count(bonds));
+      list, bond_list_count(bonds), kBondChunkMax);
 }
 
 // Stable step of the bond network (DESIGN.md 1.4): Gershgorin's bound on the largest

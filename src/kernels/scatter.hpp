@@ -65,10 +65,15 @@ struct ScatterPlan {
 };
 
 // Chunk size: at least 64 items (less and the colour passes cost more than they save), at most
-// 2048 (a chunk's working set stays in the L2 cache), and about count / 64 between (64 chunks:
-// enough for the threads of a CPU to share each colour); a multiple of 8.
-inline int scatter_chunk_size(int count) {
-  const int target = std::min(2048, std::max(64, count / 64));
+// max_size, and about count / 64 between (64 chunks: enough for the threads of a CPU to share
+// each colour); a multiple of 8. The default 2048 keeps an element chunk's working set in the
+// L2 cache: about 2048 nodes. Bonds take 8192, the same span of discs (four bonds per disc):
+// a chunk of 2048 bonds spans half a row of a 1000-wide lattice, so its node interval overlaps
+// three others, which makes four colours, and every colour pass streams the node data again
+// (bench_bonds, 1e6 discs, 2 threads: bond forces 126 -> 192 M bond-steps/s with 8192; 4096:
+// 158 M, 16384: 180 M; docs/performance.md 1d).
+inline int scatter_chunk_size(int count, int max_size = 2048) {
+  const int target = std::min(max_size, std::max(64, count / 64));
   return (target + 7) / 8 * 8;
 }
 
@@ -102,14 +107,14 @@ inline void locate_scatter_chunks(ScatterPlan& plan, const View<int*>& list, int
 
 // Builds the plan for `universe` items whose item i touches the nodes in [lo, hi] as
 // `node_range(i, lo, hi)` (a device functor) sets them, and locates it for `list` (see
-// locate_scatter_chunks). Host: it loops over the chunks (about 64 to universe / 2048 of
-// them), never over the items.
+// locate_scatter_chunks). Host: it loops over the chunks (about 64 to universe / max_chunk_size
+// of them), never over the items. max_chunk_size: scatter_chunk_size.
 template <class NodeRange>
 void build_scatter_plan(ScatterPlan& plan, int universe, const NodeRange& node_range,
-                        const View<int*>& list, int count) {
+                        const View<int*>& list, int count, int max_chunk_size = 2048) {
   plan = ScatterPlan{};
   if (kAtomicScatter || universe <= 0) return;
-  const int size = scatter_chunk_size(universe);
+  const int size = scatter_chunk_size(universe, max_chunk_size);
   const int chunks = (universe + size - 1) / size;
   View<int* [2]> interval("fracta::scatter_intervals", chunks);
   Kokkos::parallel_for(

@@ -75,7 +75,12 @@ TEST(Scatter, ChunkSizeIsAMultipleOfEightWithinItsBounds) {
     EXPECT_EQ(size % 8, 0) << count;
     EXPECT_GE(size, 64);
     EXPECT_LE(size, 2048);
+    const int bond_size = scatter_chunk_size(count, kBondChunkMax);
+    EXPECT_EQ(bond_size % 8, 0) << count;
+    EXPECT_GE(bond_size, size);
+    EXPECT_LE(bond_size, kBondChunkMax);
   }
+  EXPECT_EQ(scatter_chunk_size(10000000, kBondChunkMax), kBondChunkMax);
 }
 
 TEST(Scatter, ElementPlanCoversTheActiveListAndColoursShareNoNode) {
