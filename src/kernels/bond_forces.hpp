@@ -263,12 +263,12 @@ struct BondForces {
   // side move as vectors, and the law is the one of the run's cells (a bond's material is the one
   // of the cell that activated it: activate_element_bonds). !kShear: the run's slots are diagonals,
   // which have no shear spring (ks = 0 and fs = 0 always: activate_element_bonds and
-  // convert_cells give shear only to edges), so the batch reads no velocities, spins, radii, ks
-  // or fs, and adds no moments: bond() adds l fs = 0 there. The arithmetic is bond()'s on that
-  // path, lane by lane, in the same order, and the adds to each node come in bond()'s order (an end
-  // j of an earlier lane before the end i of a later one: the j ends are added first). If the batch
-  // does not qualify, or a lane reaches its strength, it returns false before writing anything, and
-  // the caller runs bond() for each (rare: a bond breaks or starts to soften once).
+  // prestress_converted_bonds give shear only to edges), so the batch reads no velocities, spins,
+  // radii, ks or fs, and adds no moments: bond() adds l fs = 0 there. The arithmetic is bond()'s on
+  // that path, lane by lane, in the same order, and the adds to each node come in bond()'s order
+  // (an end j of an earlier lane before the end i of a later one: the j ends are added first). If
+  // the batch does not qualify, or a lane reaches its strength, it returns false before writing
+  // anything, and the caller runs bond() for each (rare: a bond breaks or starts to soften once).
   template <bool kRun, bool kShear>
   bool elastic_batch(const int b0, const RunLanes& run) const {
     static_assert(kRun || kShear, "gathered batches take the general path");
