@@ -311,27 +311,26 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   // BondForces::batch relies on each condition: the ends and cells it does not read are one on
   // per lane, one law serves all, and a run is all edges or all diagonals).
   {
-    std::vector<unsigned char> run_next(nb, 0);
-    for (int b = 0; b + 1 < nb; ++b) {
-      bool run = slot_nodes[b + 1][0] == slot_nodes[b][0] + 1 &&
-                 slot_nodes[b + 1][1] == slot_nodes[b][1] + 1;
+    const auto continues = [&](int b) {
+      if (b + 1 >= nb || slot_kind[b + 1] != slot_kind[b] ||
+          slot_nodes[b + 1][0] != slot_nodes[b][0] + 1 ||
+          slot_nodes[b + 1][1] != slot_nodes[b][1] + 1)
+        return false;
       int material = -1;
       for (int side = 0; side < 2; ++side) {
         const int cell = bond_cells[b][side], next = bond_cells[b + 1][side];
-        if (cell < 0) {
-          run = run && next < 0;
-          continue;
-        }
-        run = run && next == cell + 1;
-        if (!run) break;
+        if (cell < 0 ? next >= 0 : next != cell + 1) return false;
+        if (cell < 0) continue;
         if (material < 0) material = m.element_material[cell];
-        run = m.element_material[cell] == material && m.element_material[next] == material;
+        if (m.element_material[cell] != material || m.element_material[next] != material)
+          return false;
       }
-      run = run && slot_kind[b + 1] == slot_kind[b];
-      run_next[b] = (run && material >= 0 ? kRunContinues : 0) |
-                    (slot_kind[b] == kBondDiagonal ? kRunNormalOnly : 0);
-    }
-    if (nb > 0 && slot_kind[nb - 1] == kBondDiagonal) run_next[nb - 1] = kRunNormalOnly;
+      return material >= 0;
+    };
+    std::vector<unsigned char> run_next(nb);
+    for (int b = 0; b < nb; ++b)
+      run_next[b] =
+          (continues(b) ? kRunContinues : 0) | (slot_kind[b] == kBondDiagonal ? kRunNormalOnly : 0);
     bonds.run_next = to_device_1d<unsigned char>("bond_run_next", run_next);
   }
   model.elements.cell_stress = View<double* [3]>("fracta::cell_stress", ne);

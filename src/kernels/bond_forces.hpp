@@ -350,6 +350,8 @@ struct BondForces {
       advancing[side] = kRun && cv[0] >= 0;
       if (advancing[side]) {
         cell_state[side] = load_ints8(&elements.cell_state(cv[0]));
+      } else if (kRun) {  // no cell on this side of the run (a diagonal's second, a boundary's)
+        cell_state[side] = Int8{} + int{kCellCracked};
       } else {
         for (int l = 0; l < L; ++l)
           cell_state[side][l] = cv[l] < 0 ? kCellCracked : elements.cell_state(cv[l]);

@@ -53,14 +53,13 @@ struct Nodes {
 enum CellState : int { kCellCracked = 0, kCellIntact = 1, kCellBelowStrength = 2 };
 enum BondState : int { kBondInactive = 0, kBondActive = 1, kBondBroken = 2 };
 enum BondKind : int { kBondEdge = 0, kBondDiagonal = 1 };
+// Bits of Bonds::run_next.
+enum BondRunBits : unsigned char { kRunContinues = 1, kRunNormalOnly = 2 };
 
 // Bond slots (DESIGN.md 1.2-1.3): springs between discs. Normal force fn (tension positive)
 // along n = (xj - xi)/|xj - xi|; shear force fs along t = n rotated by +90 degrees. The force on
 // disc i is fn n + fs t (on j the opposite); disc i receives the moment l_i fs, with l_i the
 // distance from its centre to the contact point (l_i = r_i at the rest length).
-// Bits of Bonds::run_next.
-enum BondRunBits : unsigned char { kRunContinues = 1, kRunNormalOnly = 2 };
-
 struct Bonds {
   View<int* [2]> nodes;
   View<int*> kind;             // BondKind
