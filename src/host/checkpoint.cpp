@@ -28,8 +28,9 @@ namespace fs = std::filesystem;
 
 constexpr const char* kFormat = "fracta checkpoint";
 // 2: bond damage and onset separation; 3: the lists of used bond slots and of particles;
-// 4: the FE dissipation sums; 5: bond slots in the bond kernel's order (build_lattice)
-constexpr std::int64_t kFormatVersion = 5;
+// 4: the FE dissipation sums; 5: bond slots in the bond kernel's order (build_lattice);
+// 6: the contact's discs are the boundary nodes and the particles (x_build has one row each)
+constexpr std::int64_t kFormatVersion = 6;
 
 // Owns one HDF5 identifier.
 class H5Handle {
@@ -300,8 +301,18 @@ struct CheckpointIO {
       const double* r = &rigid[6 * k];
       b.x = r[0], b.y = r[1], b.theta = r[2], b.vx = r[3], b.vy = r[4], b.omega = r[5];
     }
+    // The active list and counts must agree, or a kernel would read out of bounds.
+    const int active = s.model_.elements.active_count, converted = s.model_.converted_count;
+    if (active < 0 || active > s.model_.elements.count || converted < 0 ||
+        converted > static_cast<int>(s.model_.converted.extent(0)))
+      throw std::runtime_error("element counts out of range");
+    const int used = s.model_.bonds.used_count, particles = s.model_.nodes.particle_count;
+    if (used < 0 || used > static_cast<int>(s.model_.bonds.used.extent(0)) || particles < 0 ||
+        particles > static_cast<int>(s.model_.nodes.particle_list.extent(0)))
+      throw std::runtime_error("bond or particle list counts out of range");
     if (s.model_.contacts) {
       ContactSystem& contacts = *s.model_.contacts;
+      contacts.refresh_discs(s.model_.nodes);  // the discs of the restored particles
       H5Handle g(H5Gopen2(file, "contact", H5P_DEFAULT), H5Gclose, "group /contact is missing");
       ContactSystem::ListState cs;
       H5Handle pairs(H5Dopen2(g.get(), "pair_i", H5P_DEFAULT), H5Dclose, "cannot open pair_i");
@@ -320,15 +331,6 @@ struct CheckpointIO {
                                    " holds a node id out of range");
       contacts.restore_list_state(cs);
     }
-    // The active list and counts must agree, or a kernel would read out of bounds.
-    const int active = s.model_.elements.active_count, converted = s.model_.converted_count;
-    if (active < 0 || active > s.model_.elements.count || converted < 0 ||
-        converted > static_cast<int>(s.model_.converted.extent(0)))
-      throw std::runtime_error("element counts out of range");
-    const int used = s.model_.bonds.used_count, particles = s.model_.nodes.particle_count;
-    if (used < 0 || used > static_cast<int>(s.model_.bonds.used.extent(0)) || particles < 0 ||
-        particles > static_cast<int>(s.model_.nodes.particle_list.extent(0)))
-      throw std::runtime_error("bond or particle list counts out of range");
     s.locate_scatter_chunks();
     // The constructor's force evaluation flagged elements of the initial active list.
     Kokkos::deep_copy(s.conversion_pending_, 0);

@@ -22,14 +22,53 @@ void ContactSystem::set_disc_nodes(std::vector<int> disc_nodes) {
   if (!disc_nodes.empty() && disc_nodes.front() < 0)
     throw std::invalid_argument("contact disc node ids must be >= 0");
   const size_t n = disc_nodes.size();
-  discs_ = View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_discs"), n);
+  View<int*> discs(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_discs"), n);
   Kokkos::View<const int*, HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> host(
       disc_nodes.data(), n);
-  Kokkos::deep_copy(discs_, host);
+  Kokkos::deep_copy(discs, host);
+  tracking_ = false;
+  use_discs(discs);
+}
+
+void ContactSystem::use_discs(View<int*> discs) {
+  const size_t n = discs.extent(0);
+  discs_ = discs;
   x_build_ = View<double* [2]>("fracta::contact_x_build", n);
   cell_discs_ = View<int*>("fracta::contact_cell_discs", n);
   row_offset_ = View<int*>("fracta::contact_row_offset", n + 1);
   built_ = false;
+}
+
+void ContactSystem::track_surface(std::vector<int> surface_nodes, const Nodes& nodes) {
+  std::sort(surface_nodes.begin(), surface_nodes.end());
+  surface_nodes.erase(std::unique(surface_nodes.begin(), surface_nodes.end()), surface_nodes.end());
+  if (!surface_nodes.empty() && (surface_nodes.front() < 0 || surface_nodes.back() >= nodes.count))
+    throw std::invalid_argument("contact surface node id out of range");
+  const size_t n = surface_nodes.size();
+  surface_ =
+      View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_surface"), n);
+  Kokkos::deep_copy(surface_,
+                    Kokkos::View<const int*, HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
+                        surface_nodes.data(), n));
+  surface_only_ = View<int*>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_surface_only"), n);
+  tracking_ = true;
+  use_discs(View<int*>("fracta::contact_discs", 0));  // refresh_discs compares counts
+  refresh_discs(nodes);
+}
+
+bool ContactSystem::refresh_discs(const Nodes& nodes) {
+  if (!tracking_) return false;
+  const int surface_count = surface_without_particles(surface_, nodes, surface_only_);
+  const int particle_count = nodes.particle_list.extent(0) > 0 ? nodes.particle_count : 0;
+  // The set only grows between restores, and a restore returns to a subset of it: an equal
+  // count is the same set.
+  const int count = surface_count + particle_count;
+  if (discs_.extent(0) == static_cast<size_t>(count)) return false;
+  View<int*> discs(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_discs"), count);
+  merge_discs(surface_only_, surface_count, nodes.particle_list, particle_count, discs);
+  use_discs(discs);
+  return true;
 }
 
 void ContactSystem::set_all_pairs(bool on) {

@@ -8,6 +8,21 @@
 // from the Topology at every force evaluation, so a bond breaking between two builds turns the
 // pair into a contact at once.
 //
+// Which nodes are discs. Either a fixed list (the constructor, set_disc_nodes: tests,
+// benchmarks) or, after track_surface(), the discs that can touch now (DESIGN.md 1.3: "every
+// particle and every FE boundary node"): the given surface nodes (the mesh's boundary nodes,
+// static) and the particles (nodes.particle_list, which only the conversion and a restore
+// change; refresh_discs() re-derives the list from them). A node inside the intact FE mesh
+// (every element around it alive) is no disc: a disc of another body reaches it only through
+// the surface discs, and a node of its own body within r_i + r_j of it shares an element with
+// it unless the mesh between them is crushed to half its cell size. Leaving such pairs out
+// changes no force while they do not touch, and the pairs that remain keep their order (rows by
+// increasing i, each sorted by j): the forces are summed in the same order. Checked by an
+// all-pairs oracle over every node through the penetration impact (tests/host/test_contact.cpp);
+// a 1-thread run of cases/penetration.toml is bitwise the same as with every node a disc.
+// The list costs O(surface + particles) per refresh, no sweep over the nodes, and the contact
+// phases then scale with the discs, not with the mesh (docs/performance.md, 1e).
+//
 // Requirements on Nodes: the particle views (radius, inertia, spin, moment, contact_stiffness,
 // particle) are allocated for every node. The contact stiffness of a disc is
 // nodes.contact_stiffness (lambda k1, set by the model), so ContactParams::stiffness_factor is
@@ -45,8 +60,19 @@ class ContactSystem {
   double skin() const { return skin_; }
   // The O(N^2) builder (test oracle, benchmark baseline); forces a rebuild at the next update.
   void set_all_pairs(bool on);
-  // New set of discs (e.g. after a conversion created particles); forces a rebuild.
+  // New fixed set of discs; forces a rebuild and ends surface tracking.
   void set_disc_nodes(std::vector<int> disc_nodes);
+  // From now on the discs are the surface nodes (any order, duplicates ignored) and the
+  // particles of `nodes`; calls refresh_discs(nodes).
+  // Requires nodes.particle_list (increasing, [0, particle_count)) whenever a node is a
+  // particle.
+  void track_surface(std::vector<int> surface_nodes, const Nodes& nodes);
+  // Under surface tracking: re-derives the disc list from the surface and nodes.particle
+  // (increasing; a merge of the two lists, no sweep over the nodes); if it changed, forces a
+  // rebuild and returns true.
+  // Without tracking: returns false.
+  bool refresh_discs(const Nodes& nodes);
+  bool tracks_surface() const { return tracking_; }
   // Forces a rebuild at the next update.
   void invalidate() { built_ = false; }
   // Candidate pairs (i < j), sorted, copied to the host: for tests.
@@ -73,6 +99,11 @@ class ContactSystem {
 
  private:
   void rebuild(const Nodes& nodes);
+  void use_discs(View<int*> discs);  // sizes the per-disc views, forces a rebuild
+
+  bool tracking_ = false;
+  View<int*> surface_;       // surface tracking: the surface nodes, increasing
+  View<int*> surface_only_;  // the surface nodes that are no particles (refresh_discs)
 
   View<int*> discs_;           // node ids, increasing
   View<double* [2]> x_build_;  // disc positions at the last build

@@ -422,18 +422,22 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   topo.bond_nodes = bonds.nodes;
   topo.bond_state = bonds.state;
 
-  // Contact discs: every node of a convertible body's mesh that is or may become a particle,
-  // and every FE boundary node (DESIGN.md 1.3). Skin: a quarter of the smallest cell.
-  std::vector<int> disc(nn, 0), disc_nodes;
+  // Nodes that may take part in contact (nodes.contact_disc, for the stable step): every node
+  // of a convertible body's mesh that is or may become a particle, and every FE boundary node
+  // (DESIGN.md 1.3). The contact itself tracks the discs that can touch now: the boundary nodes
+  // and the particles (ContactSystem::track_surface, after the de parts below). Skin: a quarter
+  // of the smallest cell.
+  std::vector<int> disc(nn, 0), surface_nodes;
   double h_min = 1e300;
   for (size_t b = 0; b < c.bodies.size(); ++b)
     h_min = std::min({h_min, m.bodies[b].cell_x, m.bodies[b].cell_y});
-  for (const auto& edge : m.boundary_edges) disc[edge[0]] = disc[edge[1]] = 1;
+  for (const auto& edge : m.boundary_edges) {
+    disc[edge[0]] = disc[edge[1]] = 1;
+    surface_nodes.insert(surface_nodes.end(), {edge[0], edge[1]});
+  }
   for (int b = 0; b < nb; ++b) disc[slot_nodes[b][0]] = disc[slot_nodes[b][1]] = 1;
-  for (int n = 0; n < nn; ++n)
-    if (disc[n]) disc_nodes.push_back(n);
   nodes.contact_disc = to_device_1d<int>("node_contact_disc", disc);
-  model.contacts = std::make_shared<ContactSystem>(disc_nodes, c.contact, 0.25 * h_min);
+  model.contacts = std::make_shared<ContactSystem>(std::vector<int>{}, c.contact, 0.25 * h_min);
 
   // de parts: converted at time 0.
   const View<int*> conv = to_device_1d<int>("converted_elements", converted);
@@ -447,6 +451,7 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   nodes.particle_list = View<int*>("fracta::node_particle_list", nn);
   nodes.particle_count = build_particle_list(nodes);
   model.lists = ListWorkspace(std::max(nb, nn));
+  model.contacts->track_surface(surface_nodes, nodes);
 }
 
 }  // namespace

@@ -253,6 +253,7 @@ void Simulation::convert() {
     m.nodes.particle_count = build_particle_list(m.nodes);
   }
   locate_scatter_chunks();
+  if (m.contacts) m.contacts->refresh_discs(m.nodes);  // the new particles become discs
   Kokkos::deep_copy(
       Kokkos::subview(m.converted, std::make_pair(m.converted_count, m.converted_count + n)),
       Kokkos::subview(m.new_cells, std::make_pair(0, n)));
@@ -568,6 +569,7 @@ void Simulation::restore_snapshot() {
   model_.elements.active_count = snapshot_.active_elements;
   model_.bonds.used_count = snapshot_.used_bonds;
   model_.nodes.particle_count = snapshot_.particles;
+  if (model_.contacts) model_.contacts->refresh_discs(model_.nodes);  // the snapshot's particles
   locate_scatter_chunks();
   // Flags of the abandoned steps name positions in another active list: drop them (the next
   // force evaluation flags the restored state).

@@ -10,19 +10,6 @@
 
 namespace fracta {
 
-// Number of entries of the increasing list [0, count) that are < value.
-KOKKOS_INLINE_FUNCTION int count_below(const View<int*>& list, int count, int value) {
-  int lo = 0, hi = count;
-  while (lo < hi) {
-    const int mid = (lo + hi) / 2;
-    if (list(mid) < value)
-      lo = mid + 1;
-    else
-      hi = mid;
-  }
-  return lo;
-}
-
 // Lattice spring stiffnesses of the formulation (DESIGN.md 1.2), N/m:
 // k1 = E t / (1 + nu), k2 = nu E t / (1 - nu^2), ks = E t (1 - 3 nu) / (1 - nu^2), with
 // (E, nu) -> (E / (1 - nu^2), nu / (1 - nu)) in plane strain (paper Eq. 4). They give

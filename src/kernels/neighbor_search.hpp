@@ -311,6 +311,44 @@ inline void fill_candidates(const Nodes& nodes, const View<const int*>& discs, d
       });
 }
 
+// The discs that can touch now, under surface tracking (ContactSystem::refresh_discs): the
+// surface nodes (increasing, static) and the particles (nodes.particle_list, increasing),
+// merged without a sweep over the nodes. First the surface nodes that are no particles
+// (returns their count, into surface_only), then the merge of the two disjoint increasing
+// lists into discs (every entry finds its place by a binary search in the other list).
+inline int surface_without_particles(const View<const int*>& surface, const Nodes& nodes,
+                                     const View<int*>& surface_only) {
+  const auto particle = nodes.particle;
+  const bool particles = nodes.has_particles();
+  int count = 0;
+  Kokkos::parallel_scan(
+      "fracta::contact_surface_discs", Kokkos::RangePolicy<ExecSpace>(0, surface.extent(0)),
+      KOKKOS_LAMBDA(const int k, int& partial, const bool final) {
+        const int n = surface(k);
+        if (particles && particle(n)) return;
+        if (final) surface_only(partial) = n;
+        ++partial;
+      },
+      count);
+  return count;
+}
+
+inline void merge_discs(const View<int*>& surface_only, int surface_count,
+                        const View<int*>& particles, int particle_count, const View<int*>& discs) {
+  Kokkos::parallel_for(
+      "fracta::contact_disc_merge",
+      Kokkos::RangePolicy<ExecSpace>(0, surface_count + particle_count),
+      KOKKOS_LAMBDA(const int k) {
+        if (k < surface_count) {
+          const int n = surface_only(k);
+          discs(k + count_below(particles, particle_count, n)) = n;
+        } else {
+          const int n = particles(k - surface_count);
+          discs(k - surface_count + count_below(surface_only, surface_count, n)) = n;
+        }
+      });
+}
+
 // Positions at the build, for the Verlet criterion.
 inline void record_positions(const Nodes& nodes, const View<const int*>& discs,
                              const View<double* [2]>& x_build) {

@@ -47,6 +47,19 @@ struct Nodes {
   bool has_particles() const { return particle.extent(0) > 0; }
 };
 
+// Number of entries of the increasing list [0, count) that are < value.
+KOKKOS_INLINE_FUNCTION int count_below(const View<int*>& list, int count, int value) {
+  int lo = 0, hi = count;
+  while (lo < hi) {
+    const int mid = (lo + hi) / 2;
+    if (list(mid) < value)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo;
+}
+
 // Of a converted cell (compute_cell_stress): cracked once one of its bonds is broken or
 // softening; intact cells are kCellBelowStrength when their stress is below the strength on every
 // face by a bound (the bond kernel may then skip their bonds' failure check).
