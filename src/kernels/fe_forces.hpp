@@ -330,9 +330,13 @@ struct FeForces {
       // Trapezoidal work of the viscous pressure (see the hourglass work below).
       viscous += -0.5 * (viscosity_old + qv) * div * volume * p.dt;
       for (int k = 0; k < 4; ++k) store_lanes(s[k], &elements.stress(0, k), q, q_consecutive);
-      store_lanes(epeq, elements.epeq.data(), q, q_consecutive);
+      // epeq changes only in the return mapping, and the viscous pressure of an element out of
+      // compression stays 0: storing an unchanged value would only write its cache line back
+      // (8 B per element-step each; most elements are elastic, half are out of compression).
+      if (any_lane(full_update)) store_lanes(epeq, elements.epeq.data(), q, q_consecutive);
       store_lanes(volume, elements.qp_volume.data(), q, q_consecutive);
-      store_lanes(qv, elements.bulk_viscosity.data(), q, q_consecutive);
+      if (any_lane(qv != viscosity_old))
+        store_lanes(qv, elements.bulk_viscosity.data(), q, q_consecutive);
       div_rate = div_rate < div ? div_rate : div;
       const T sxx = s[0] - qv, syy = s[1] - qv, sxy = s[3];
       for (int a = 0; a < 4; ++a) {
