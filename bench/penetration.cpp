@@ -149,6 +149,10 @@ int main(int argc, char** argv) {
     for (long s = 0; s < o.warmup && !sim.failed(); ++s) sim.step();
     const HistoryRecord h0 = sim.history();
     const long conversions0 = sim.conversions();
+    const auto rebuilds = [&] {
+      return sim.model().contacts ? sim.model().contacts->rebuild_count() : 0L;
+    };
+    const long rebuilds0 = rebuilds();
     bench::RegionTimer::reset();
     const double eps = 1e-12;
     double next_history = sim.time() + c.sim.history_interval;
@@ -203,6 +207,8 @@ int main(int argc, char** argv) {
        << ", \"contacts\": " << contacts << ", \"warmup_steps\": " << o.warmup
        << ", \"steps\": " << steps << ", \"dt_s\": " << num(sim.dt())
        << ", \"conversions_in_window\": " << sim.conversions() - conversions0
+       << ", \"contact_rebuilds_in_window\": " << rebuilds() - rebuilds0
+       << ", \"contact_discs\": " << (sim.model().contacts ? sim.model().contacts->disc_count() : 0)
        << ", \"failed\": " << (sim.failed() ? "true" : "false")
        << ", \"setup_s\": " << num(setup_seconds) << ", \"run_s\": " << num(run_seconds)
        << ", \"steps_per_s\": " << num(steps_per_s)

@@ -22,20 +22,29 @@ void ContactSystem::set_disc_nodes(std::vector<int> disc_nodes) {
   if (!disc_nodes.empty() && disc_nodes.front() < 0)
     throw std::invalid_argument("contact disc node ids must be >= 0");
   const size_t n = disc_nodes.size();
-  View<int*> discs(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_discs"), n);
-  Kokkos::View<const int*, HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> host(
-      disc_nodes.data(), n);
-  Kokkos::deep_copy(discs, host);
   tracking_ = false;
-  use_discs(discs);
+  resize_discs(n);
+  Kokkos::deep_copy(discs_,
+                    Kokkos::View<const int*, HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>(
+                        disc_nodes.data(), n));
 }
 
-void ContactSystem::use_discs(View<int*> discs) {
-  const size_t n = discs.extent(0);
-  discs_ = discs;
-  x_build_ = View<double* [2]>("fracta::contact_x_build", n);
-  cell_discs_ = View<int*>("fracta::contact_cell_discs", n);
-  row_offset_ = View<int*>("fracta::contact_row_offset", n + 1);
+void ContactSystem::resize_discs(size_t n) {
+  if (disc_buffer_.extent(0) < n || disc_buffer_.data() == nullptr) {
+    const size_t capacity = n + n / 4 + 16;  // headroom: a conversion adds a few discs
+    const auto uninitialized = [](const std::string& label) {
+      return Kokkos::view_alloc(Kokkos::WithoutInitializing, label);
+    };
+    disc_buffer_ = View<int*>(uninitialized("fracta::contact_discs"), capacity);
+    x_build_buffer_ = View<double* [2]>(uninitialized("fracta::contact_x_build"), capacity);
+    cell_discs_buffer_ = View<int*>(uninitialized("fracta::contact_cell_discs"), capacity);
+    row_offset_buffer_ = View<int*>(uninitialized("fracta::contact_row_offset"), capacity + 1);
+  }
+  const auto first = std::make_pair(size_t{0}, n);
+  discs_ = Kokkos::subview(disc_buffer_, first);
+  x_build_ = Kokkos::subview(x_build_buffer_, first, Kokkos::ALL);
+  cell_discs_ = Kokkos::subview(cell_discs_buffer_, first);
+  row_offset_ = Kokkos::subview(row_offset_buffer_, std::make_pair(size_t{0}, n + 1));
   built_ = false;
 }
 
@@ -53,21 +62,23 @@ void ContactSystem::track_surface(std::vector<int> surface_nodes, const Nodes& n
   surface_only_ = View<int*>(
       Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_surface_only"), n);
   tracking_ = true;
-  use_discs(View<int*>("fracta::contact_discs", 0));  // refresh_discs compares counts
+  resize_discs(0);
+  refreshed_particles_ = -1;
   refresh_discs(nodes);
 }
 
 bool ContactSystem::refresh_discs(const Nodes& nodes) {
   if (!tracking_) return false;
-  const int surface_count = surface_without_particles(surface_, nodes, surface_only_);
+  // The discs are a function of the particles, and the particles only grow between restores
+  // (a restore returns to a subset): the same count is the same set.
   const int particle_count = nodes.particle_list.extent(0) > 0 ? nodes.particle_count : 0;
-  // The set only grows between restores, and a restore returns to a subset of it: an equal
-  // count is the same set.
+  if (particle_count == refreshed_particles_) return false;
+  refreshed_particles_ = particle_count;
+  const int surface_count = surface_without_particles(surface_, nodes, surface_only_);
   const int count = surface_count + particle_count;
   if (discs_.extent(0) == static_cast<size_t>(count)) return false;
-  View<int*> discs(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_discs"), count);
-  merge_discs(surface_only_, surface_count, nodes.particle_list, particle_count, discs);
-  use_discs(discs);
+  resize_discs(static_cast<size_t>(count));
+  merge_discs(surface_only_, surface_count, nodes.particle_list, particle_count, discs_);
   return true;
 }
 
@@ -90,7 +101,9 @@ void ContactSystem::rebuild(const Nodes& nodes) {
   const int n = disc_count();
   CellGrid grid;
   if (!all_pairs_ && n > 0) {
-    grid = make_grid(disc_bounds(nodes, discs_), skin_, std::max(4L * n, 1024L));
+    // At most 4 cells per disc, but 65536 in any case: the discs of a scene are often a hollow
+    // frame (the boundary nodes) whose box would otherwise get cells of several radii.
+    grid = make_grid(disc_bounds(nodes, discs_), skin_, std::max(4L * n, 65536L));
     const long cells = grid.cell_count();
     if (static_cast<long>(cell_cursor_.extent(0)) < cells) {
       cell_start_ = View<int*>("fracta::contact_cell_start", cells + 1);

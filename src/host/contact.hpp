@@ -99,11 +99,18 @@ class ContactSystem {
 
  private:
   void rebuild(const Nodes& nodes);
-  void use_discs(View<int*> discs);  // sizes the per-disc views, forces a rebuild
+  // Sizes the per-disc views for n discs, reusing their buffers while they hold n; forces a
+  // rebuild.
+  void resize_discs(size_t n);
 
   bool tracking_ = false;
-  View<int*> surface_;       // surface tracking: the surface nodes, increasing
-  View<int*> surface_only_;  // the surface nodes that are no particles (refresh_discs)
+  View<int*> surface_;            // surface tracking: the surface nodes, increasing
+  View<int*> surface_only_;       // the surface nodes that are no particles (refresh_discs)
+  int refreshed_particles_ = -1;  // nodes.particle_count at the last refresh_discs
+  // Capacity buffers behind discs_, x_build_, cell_discs_ and row_offset_ (their first
+  // disc_count() entries, row_offset_ one more).
+  View<int*> disc_buffer_, cell_discs_buffer_, row_offset_buffer_;
+  View<double* [2]> x_build_buffer_;
 
   View<int*> discs_;           // node ids, increasing
   View<double* [2]> x_build_;  // disc positions at the last build
