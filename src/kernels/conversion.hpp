@@ -495,16 +495,7 @@ inline int insert_sorted(const View<int*>& list, int count, const View<int*>& ca
   const int added = rank_kept("fracta::list_rank", candidates, keep, k, sorted);
   if (added == 0) return count;
   const int total = count + added;
-  Kokkos::parallel_for(
-      "fracta::list_merge", Kokkos::RangePolicy<ExecSpace>(0, total), KOKKOS_LAMBDA(const int i) {
-        if (i < count) {
-          const int v = list(i);
-          merged(i + count_below(sorted, added, v)) = v;
-        } else {
-          const int v = sorted(i - count);
-          merged(i - count + count_below(list, count, v)) = v;
-        }
-      });
+  merge_disjoint_sorted("fracta::list_merge", list, count, sorted, added, merged);
   Kokkos::deep_copy(Kokkos::subview(list, std::make_pair(0, total)),
                     Kokkos::subview(merged, std::make_pair(0, total)));
   return total;

@@ -335,18 +335,8 @@ inline int surface_without_particles(const View<const int*>& surface, const Node
 
 inline void merge_discs(const View<int*>& surface_only, int surface_count,
                         const View<int*>& particles, int particle_count, const View<int*>& discs) {
-  Kokkos::parallel_for(
-      "fracta::contact_disc_merge",
-      Kokkos::RangePolicy<ExecSpace>(0, surface_count + particle_count),
-      KOKKOS_LAMBDA(const int k) {
-        if (k < surface_count) {
-          const int n = surface_only(k);
-          discs(k + count_below(particles, particle_count, n)) = n;
-        } else {
-          const int n = particles(k - surface_count);
-          discs(k - surface_count + count_below(surface_only, surface_count, n)) = n;
-        }
-      });
+  merge_disjoint_sorted("fracta::contact_disc_merge", surface_only, surface_count, particles,
+                        particle_count, discs);
 }
 
 // Positions at the build, for the Verlet criterion.

@@ -60,6 +60,22 @@ KOKKOS_INLINE_FUNCTION int count_below(const View<int*>& list, int count, int va
   return lo;
 }
 
+// Merges the disjoint increasing lists a[0, na) and b[0, nb) into out[0, na + nb), increasing:
+// every entry finds its place by a binary search in the other list.
+inline void merge_disjoint_sorted(const char* label, const View<int*>& a, int na,
+                                  const View<int*>& b, int nb, const View<int*>& out) {
+  Kokkos::parallel_for(
+      label, Kokkos::RangePolicy<ExecSpace>(0, na + nb), KOKKOS_LAMBDA(const int k) {
+        if (k < na) {
+          const int v = a(k);
+          out(k + count_below(b, nb, v)) = v;
+        } else {
+          const int v = b(k - na);
+          out(k - na + count_below(a, na, v)) = v;
+        }
+      });
+}
+
 // Of a converted cell (compute_cell_stress): cracked once one of its bonds is broken or
 // softening; intact cells are kCellBelowStrength when their stress is below the strength on every
 // face by a bound (the bond kernel may then skip their bonds' failure check).
