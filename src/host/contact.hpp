@@ -67,7 +67,7 @@ class ContactSystem {
   // Requires nodes.particle_list (increasing, [0, particle_count)) whenever a node is a
   // particle.
   void track_surface(std::vector<int> surface_nodes, const Nodes& nodes);
-  // Under surface tracking: re-derives the disc list from the surface and nodes.particle
+  // Under surface tracking: re-derives the disc list from the surface and nodes.particle_list
   // (increasing; a merge of the two lists, no sweep over the nodes); if it changed, forces a
   // rebuild and returns true.
   // Without tracking: returns false.
