@@ -78,7 +78,8 @@ bool ContactSystem::refresh_discs(const Nodes& nodes) {
   const int count = surface_count + particle_count;
   if (discs_.extent(0) == static_cast<size_t>(count)) return false;
   resize_discs(static_cast<size_t>(count));
-  merge_discs(surface_only_, surface_count, nodes.particle_list, particle_count, discs_);
+  merge_disjoint_sorted("fracta::contact_disc_merge", surface_only_, surface_count,
+                        nodes.particle_list, particle_count, discs_);
   return true;
 }
 

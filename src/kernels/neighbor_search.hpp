@@ -313,9 +313,8 @@ inline void fill_candidates(const Nodes& nodes, const View<const int*>& discs, d
 
 // The discs that can touch now, under surface tracking (ContactSystem::refresh_discs): the
 // surface nodes (increasing, static) and the particles (nodes.particle_list, increasing),
-// merged without a sweep over the nodes. First the surface nodes that are no particles
-// (returns their count, into surface_only), then the merge of the two disjoint increasing
-// lists into discs (every entry finds its place by a binary search in the other list).
+// without a sweep over the nodes. This keeps the surface nodes that are no particles (into
+// surface_only; returns their count), so the two lists are disjoint for merge_disjoint_sorted.
 inline int surface_without_particles(const View<const int*>& surface, const Nodes& nodes,
                                      const View<int*>& surface_only) {
   const auto particle = nodes.particle;
@@ -331,12 +330,6 @@ inline int surface_without_particles(const View<const int*>& surface, const Node
       },
       count);
   return count;
-}
-
-inline void merge_discs(const View<int*>& surface_only, int surface_count,
-                        const View<int*>& particles, int particle_count, const View<int*>& discs) {
-  merge_disjoint_sorted("fracta::contact_disc_merge", surface_only, surface_count, particles,
-                        particle_count, discs);
 }
 
 // Positions at the build, for the Verlet criterion.
