@@ -69,50 +69,142 @@ KOKKOS_INLINE_FUNCTION double bilinear_spring(double k, double u, double f_yield
 // tangent to the circle); both are convex in the stress, so they hold for the mean of a bond's
 // two cells too. A margin of 1e-9 of the terms' size keeps rounding out of the decision.
 // (A bond's law is its cells' law: both cells of a bond belong to one body, of one material.)
+//
+// A work item is a batch of kLanes positions of the cell list (simd.hpp: 8 on CPUs, 1 on GPUs).
+// Eight consecutive cells of one material along one row of a structured mesh run as one cell of
+// type Double8: their corners, strain offsets and stresses move by vector loads and stores
+// (load_pairs, load_triples, store_triples) instead of 8 scalar gathers per corner; any other
+// batch (row ends, irregular meshes, mixed materials, an unsorted list) runs cell by cell.
+struct CellStress {
+  View<int*> cells;
+  int count = 0;
+  View<const LatticeStiffness*> stiffness;
+  View<const BondLaw*> laws;
+  Elements elements;
+  Nodes nodes;
+  bool bound_faces = true;
+  bool row_batches = true;  // false: cell by cell (tests)
+
+  static int batches(int cell_count) { return (cell_count + kLanes - 1) / kLanes; }
+
+  // The cell stress S = C : (E - offset) of L cells of one material, and whether each is below
+  // its strength on every face (the bound above; all false without bound_faces).
+  template <class T>
+  KOKKOS_INLINE_FUNCTION auto stress_of(const T (&x0)[4], const T (&y0)[4], const T (&x)[4],
+                                        const T (&y)[4], const T (&offset)[3], int material,
+                                        T (&stress)[3]) const {
+    T ux[4], uy[4], green[3];
+    for (int a = 0; a < 4; ++a) {
+      ux[a] = x[a] - x0[a];
+      uy[a] = y[a] - y0[a];
+    }
+    green_lagrange(x0, y0, ux, uy, green);
+    const T exx = green[0] - offset[0];
+    const T eyy = green[1] - offset[1];
+    const T exy = green[2] - offset[2];
+    const LatticeStiffness s = stiffness(material);
+    const double c = s.youngs_modulus_eff / (1.0 - s.poisson_ratio_eff * s.poisson_ratio_eff);
+    const T sxx = c * (exx + s.poisson_ratio_eff * eyy);
+    const T syy = c * (eyy + s.poisson_ratio_eff * exx);
+    const T sxy = s.youngs_modulus_eff / (1.0 + s.poisson_ratio_eff) * exy;
+    stress[0] = sxx;
+    stress[1] = syy;
+    stress[2] = sxy;
+    auto below = !all_lanes<T>();
+    if (!bound_faces) return below;
+    const BondLaw& law = laws(material);
+    const T centre = 0.5 * (sxx + syy);
+    const T radius = sqrt_(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
+    constexpr double margin = 1e-9;
+    below = all_lanes<T>();
+    if (law.tensile_strength > 0.0)
+      below = centre + radius + margin * (fabs_(centre) + radius + law.tensile_strength) <
+              law.tensile_strength;
+    if (law.cohesion > 0.0) {
+      const double secant = sqrt_(1.0 + law.tan_friction * law.tan_friction);
+      const T shear = centre * law.tan_friction + radius * secant;
+      below = below &&
+              shear + margin * (fabs_(centre * law.tan_friction) + radius * secant + law.cohesion) <
+                  law.cohesion;
+    }
+    return below;
+  }
+
+  // Cracked once one of its bonds broke or started to soften (BondForces marks it then): bonds
+  // never heal, so the mark is for good.
+  KOKKOS_INLINE_FUNCTION int state_of(const int e, const bool below) const {
+    if (elements.cell_cracked(e)) return kCellCracked;
+    return below ? kCellBelowStrength : kCellIntact;
+  }
+
+  KOKKOS_INLINE_FUNCTION void cell(const int e) const {
+    double x0[4], y0[4], x[4], y[4];
+    for (int a = 0; a < 4; ++a) {
+      const int n = elements.nodes(e, a);
+      x0[a] = nodes.x0(n, 0);
+      y0[a] = nodes.x0(n, 1);
+      x[a] = nodes.x(n, 0);
+      y[a] = nodes.x(n, 1);
+    }
+    const double offset[3] = {elements.cell_strain_offset(e, 0), elements.cell_strain_offset(e, 1),
+                              elements.cell_strain_offset(e, 2)};
+    double stress[3];
+    const bool below = stress_of(x0, y0, x, y, offset, elements.material(e), stress);
+    for (int k = 0; k < 3; ++k) elements.cell_stress(e, k) = stress[k];
+    elements.cell_state(e) = state_of(e, below);
+  }
+
+#ifdef FRACTA_HOST_SIMD
+  // Cells e0 .. e0 + 7 (consecutive, one material, along one row): as one Double8 cell.
+  void row_batch(const int e0, const int (&node)[4][8]) const {
+    Double8 x0[4], y0[4], x[4], y[4], offset[3], stress[3];
+    for (int a = 0; a < 4; ++a) {
+      load_pairs(&nodes.x0(0, 0) + 2 * node[a][0], x0[a], y0[a]);
+      load_pairs(&nodes.x(0, 0) + 2 * node[a][0], x[a], y[a]);
+    }
+    load_triples(&elements.cell_strain_offset(e0, 0), offset[0], offset[1], offset[2]);
+    const Mask8 below = stress_of(x0, y0, x, y, offset, elements.material(e0), stress);
+    store_triples(&elements.cell_stress(e0, 0), stress[0], stress[1], stress[2]);
+    for (int l = 0; l < 8; ++l) elements.cell_state(e0 + l) = state_of(e0 + l, below[l] != 0);
+  }
+#endif
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int batch_index) const {
+    const int first = batch_index * kLanes;
+#ifdef FRACTA_HOST_SIMD
+    // Row batches need the interleaved (LayoutRight) node and cell arrays of the CPU build.
+    if (row_batches && first + kLanes <= count && nodes.x.stride_0() == 2 &&
+        nodes.x0.stride_0() == 2 && elements.cell_stress.stride_0() == 3 &&
+        elements.cell_strain_offset.stride_0() == 3) {
+      int node[4][8];
+      bool row = true;
+      const int e0 = cells(first);
+      const int material = elements.material(e0);
+      for (int l = 0; l < 8 && row; ++l) {
+        const int e = cells(first + l);
+        row = e == e0 + l && elements.material(e) == material;
+        for (int a = 0; a < 4; ++a) node[a][l] = elements.nodes(e, a);
+      }
+      if (row && structured_row<8>(node)) {
+        row_batch(e0, node);
+        return;
+      }
+    }
+#endif
+    const int last = min_(first + kLanes, count);
+    for (int k = first; k < last; ++k) cell(cells(k));
+  }
+};
+
 inline void compute_cell_stress(const View<int*>& cells, int count,
                                 const View<const LatticeStiffness*>& stiffness,
                                 const View<const BondLaw*>& laws, const Elements& elements,
-                                const Nodes& nodes, bool bound_faces = true) {
+                                const Nodes& nodes, bool bound_faces = true,
+                                bool row_batches = true) {
   if (count == 0) return;
-  Kokkos::parallel_for(
-      "fracta::cell_stress", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(const int k) {
-        const int e = cells(k);
-        // Cracked once one of its bonds broke or started to soften (BondForces marks it then):
-        // bonds never heal, so the mark is for good.
-        int state = elements.cell_cracked(e) ? kCellCracked : kCellIntact;
-        double green[3];
-        cell_green_lagrange(elements, nodes, e, green);
-        const double exx = green[0] - elements.cell_strain_offset(e, 0);
-        const double eyy = green[1] - elements.cell_strain_offset(e, 1);
-        const double exy = green[2] - elements.cell_strain_offset(e, 2);
-        const LatticeStiffness s = stiffness(elements.material(e));
-        const double c = s.youngs_modulus_eff / (1.0 - s.poisson_ratio_eff * s.poisson_ratio_eff);
-        const double sxx = c * (exx + s.poisson_ratio_eff * eyy);
-        const double syy = c * (eyy + s.poisson_ratio_eff * exx);
-        const double sxy = s.youngs_modulus_eff / (1.0 + s.poisson_ratio_eff) * exy;
-        elements.cell_stress(e, 0) = sxx;
-        elements.cell_stress(e, 1) = syy;
-        elements.cell_stress(e, 2) = sxy;
-        if (state == kCellIntact && bound_faces) {
-          const BondLaw& law = laws(elements.material(e));
-          const double centre = 0.5 * (sxx + syy);
-          const double radius = sqrt_(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
-          constexpr double margin = 1e-9;
-          bool below = true;
-          if (law.tensile_strength > 0.0)
-            below = centre + radius + margin * (fabs_(centre) + radius + law.tensile_strength) <
-                    law.tensile_strength;
-          if (law.cohesion > 0.0) {
-            const double secant = sqrt_(1.0 + law.tan_friction * law.tan_friction);
-            const double shear = centre * law.tan_friction + radius * secant;
-            below = below && shear + margin * (fabs_(centre * law.tan_friction) + radius * secant +
-                                               law.cohesion) <
-                                 law.cohesion;
-          }
-          if (below) state = kCellBelowStrength;
-        }
-        elements.cell_state(e) = state;
-      });
+  const CellStress kernel{cells, count, stiffness, laws, elements, nodes, bound_faces, row_batches};
+  Kokkos::parallel_for("fracta::cell_stress",
+                       Kokkos::RangePolicy<ExecSpace>(0, CellStress::batches(count)), kernel);
 }
 
 // Cohesive bonds (BondLaw::fracture_energy > 0). Effective separation of a bond from its

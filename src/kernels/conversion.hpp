@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "kernels/compat.hpp"
+#include "kernels/simd.hpp"
 #include "kernels/state.hpp"
 
 namespace fracta {
@@ -33,24 +34,18 @@ KOKKOS_INLINE_FUNCTION LatticeStiffness lattice_stiffness(double E, double nu, b
   return s;
 }
 
-// Green-Lagrange strain (xx, yy, xy tensor components) of cell e from its 4 corner nodes at the
-// cell centre, with the reference one-point gradients: rotation invariant.
-KOKKOS_INLINE_FUNCTION void cell_green_lagrange(const Elements& el, const Nodes& nodes, int e,
-                                                double strain[3]) {
-  double x0[4], y0[4], ux[4], uy[4];
+// Green-Lagrange strain (xx, yy, xy tensor components) of a cell at its centre, from its 4
+// corners' reference positions (x0, y0) and displacements (ux, uy), with the reference one-point
+// gradients: rotation invariant. T = double, or Double8 for eight cells at once (simd.hpp).
+template <class T>
+KOKKOS_INLINE_FUNCTION void green_lagrange(const T (&x0)[4], const T (&y0)[4], const T (&ux)[4],
+                                           const T (&uy)[4], T (&strain)[3]) {
+  const T A = 0.5 * ((x0[2] - x0[0]) * (y0[3] - y0[1]) + (x0[1] - x0[3]) * (y0[2] - y0[0]));
+  const T inverse_2A = 0.5 / A;  // one division per cell, not eight (every step, every cell)
+  T h00 = splat<T>(0.0), h01 = h00, h10 = h00, h11 = h00;  // displacement gradient
   for (int a = 0; a < 4; ++a) {
-    const int n = el.nodes(e, a);
-    x0[a] = nodes.x0(n, 0);
-    y0[a] = nodes.x0(n, 1);
-    ux[a] = nodes.x(n, 0) - x0[a];
-    uy[a] = nodes.x(n, 1) - y0[a];
-  }
-  const double A = 0.5 * ((x0[2] - x0[0]) * (y0[3] - y0[1]) + (x0[1] - x0[3]) * (y0[2] - y0[0]));
-  const double inverse_2A = 0.5 / A;  // one division per cell, not eight (every step, every cell)
-  double h00 = 0, h01 = 0, h10 = 0, h11 = 0;  // displacement gradient
-  for (int a = 0; a < 4; ++a) {
-    const double bx = (y0[(a + 1) % 4] - y0[(a + 3) % 4]) * inverse_2A;
-    const double by = (x0[(a + 3) % 4] - x0[(a + 1) % 4]) * inverse_2A;
+    const T bx = (y0[(a + 1) % 4] - y0[(a + 3) % 4]) * inverse_2A;
+    const T by = (x0[(a + 3) % 4] - x0[(a + 1) % 4]) * inverse_2A;
     h00 += ux[a] * bx;
     h01 += ux[a] * by;
     h10 += uy[a] * bx;
@@ -60,6 +55,20 @@ KOKKOS_INLINE_FUNCTION void cell_green_lagrange(const Elements& el, const Nodes&
   strain[0] = h00 + 0.5 * (h00 * h00 + h10 * h10);
   strain[1] = h11 + 0.5 * (h01 * h01 + h11 * h11);
   strain[2] = 0.5 * (h01 + h10 + h00 * h01 + h10 * h11);
+}
+
+// The same of cell e of the mesh.
+KOKKOS_INLINE_FUNCTION void cell_green_lagrange(const Elements& el, const Nodes& nodes, int e,
+                                                double (&strain)[3]) {
+  double x0[4], y0[4], ux[4], uy[4];
+  for (int a = 0; a < 4; ++a) {
+    const int n = el.nodes(e, a);
+    x0[a] = nodes.x0(n, 0);
+    y0[a] = nodes.x0(n, 1);
+    ux[a] = nodes.x(n, 0) - x0[a];
+    uy[a] = nodes.x(n, 1) - y0[a];
+  }
+  green_lagrange(x0, y0, ux, uy, strain);
 }
 
 // Activates the bond slots of the elements listed in `converted` and makes their nodes discs.

@@ -188,16 +188,6 @@ struct FeForces {
     for (int i = first; i < last; ++i) element<double>(i, acc);
   }
 
-  // The corners of the batch lie along one row of a structured mesh (see element).
-  template <int L>
-  KOKKOS_INLINE_FUNCTION static bool structured_row(const int (&node)[4][L]) {
-    bool row = true;
-    for (int l = 0; l < L; ++l)
-      row = row && node[0][l] == node[0][0] + l && node[1][l] == node[0][l] + 1 &&
-            node[3][l] == node[3][0] + l && node[2][l] == node[3][l] + 1;
-    return row;
-  }
-
   // Active elements [first, first + L), L = LaneCount<T>, all of one material.
   template <class T>
   KOKKOS_INLINE_FUNCTION void element(const int first, FeStepSums& acc) const {

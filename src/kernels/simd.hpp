@@ -44,6 +44,18 @@ KOKKOS_INLINE_FUNCTION auto all_lanes() {
   return splat<T>(0.0) == 0.0;
 }
 
+// The corners (counter-clockwise) of L quads lie along one row of a structured mesh: corner 0 of
+// lane l at node n0 + l, corner 1 at n0 + l + 1, corner 3 at m0 + l, corner 2 at m0 + l + 1. Their
+// node data then comes by vector loads (load_pairs) instead of gathers.
+template <int L>
+KOKKOS_INLINE_FUNCTION bool structured_row(const int (&node)[4][L]) {
+  bool row = true;
+  for (int l = 0; l < L; ++l)
+    row = row && node[0][l] == node[0][0] + l && node[1][l] == node[0][l] + 1 &&
+          node[3][l] == node[3][0] + l && node[2][l] == node[3][l] + 1;
+  return row;
+}
+
 template <class T>
 struct LaneCount {
   static constexpr int value = 1;
@@ -150,6 +162,11 @@ inline Double8 sqrt_(Double8 a) {
 #endif
 }
 
+inline Double8 fabs_(Double8 a) {
+  for (int l = 0; l < 8; ++l) a[l] = fabs_(a[l]);  // vectorized (a sign-bit mask)
+  return a;
+}
+
 // Eight consecutive (x, y) pairs of an interleaved array (a LayoutRight [n][2] view at node n):
 // x and y each as one vector, from two vector loads and two shuffles (a gather per component
 // would cost far more). And the reverse, added in place.
@@ -184,6 +201,20 @@ inline void load_triples(const double* triples, Double8& a, Double8& b, Double8&
                         Mask8{0, 1, 2, 3, 4, 8, 11, 14});
   c = __builtin_shuffle(__builtin_shuffle(p, q, Mask8{2, 5, 8, 11, 14, 0, 0, 0}), r,
                         Mask8{0, 1, 2, 3, 4, 9, 12, 15});
+}
+
+// The reverse of load_triples: a, b and c stored as eight interleaved (a, b, c) triples.
+inline void store_triples(double* triples, const Double8& a, const Double8& b, const Double8& c) {
+  // Element 3l + m of the 24 is lane l of component m: each 8 of them from a and b, then c.
+  const Double8 p = __builtin_shuffle(__builtin_shuffle(a, b, Mask8{0, 8, 0, 1, 9, 0, 2, 10}), c,
+                                      Mask8{0, 1, 8, 3, 4, 9, 6, 7});
+  const Double8 q = __builtin_shuffle(__builtin_shuffle(a, b, Mask8{0, 3, 11, 0, 4, 12, 0, 5}), c,
+                                      Mask8{10, 1, 2, 11, 4, 5, 12, 7});
+  const Double8 r = __builtin_shuffle(__builtin_shuffle(a, b, Mask8{13, 0, 6, 14, 0, 7, 15, 0}), c,
+                                      Mask8{0, 13, 2, 3, 14, 5, 6, 15});
+  __builtin_memcpy(triples, &p, sizeof p);
+  __builtin_memcpy(triples + 8, &q, sizeof q);
+  __builtin_memcpy(triples + 16, &r, sizeof r);
 }
 
 // Lane l of the result is lane l - 1 of v; lane 0 is 0.
