@@ -186,6 +186,12 @@ inline void add_pairs(double* pairs, const Double8& x, const Double8& y) {
   __builtin_memcpy(pairs, &lo, sizeof lo);
   __builtin_memcpy(pairs + 8, &hi, sizeof hi);
 }
+inline void store_pairs(double* pairs, const Double8& x, const Double8& y) {
+  const Double8 lo = __builtin_shuffle(x, y, Mask8{0, 8, 1, 9, 2, 10, 3, 11});
+  const Double8 hi = __builtin_shuffle(x, y, Mask8{4, 12, 5, 13, 6, 14, 7, 15});
+  __builtin_memcpy(pairs, &lo, sizeof lo);
+  __builtin_memcpy(pairs + 8, &hi, sizeof hi);
+}
 // Eight consecutive (a, b, c) triples of an interleaved array (a LayoutRight [n][3] view at row
 // n): a, b and c each as one vector, from three vector loads and six two-source shuffles.
 inline void load_triples(const double* triples, Double8& a, Double8& b, Double8& c) {
