@@ -12,40 +12,116 @@
 
 namespace fracta {
 
+#ifdef FRACTA_HOST_SIMD
+// The translation state of eight consecutive nodes as Double8 lanes (the CPU form of the kicks):
+// the interleaved (x, y) rows by two vector loads each (load_pairs) instead of a scalar load per
+// value; the work summed per lane. store() writes v back and, after a drift, x, and clears the
+// force accumulators.
+struct EightNodes {
+  Double8 x[2], v[2], f[2], f_ext[2], inv_m, work;
+  Mask8 fixed[2];
+
+  EightNodes(const Nodes& nodes, const int first, const bool drift) {
+    if (drift) load_pairs(&nodes.x(first, 0), x[0], x[1]);
+    load_pairs(&nodes.v(first, 0), v[0], v[1]);
+    load_pairs(&nodes.f(first, 0), f[0], f[1]);
+    load_pairs(&nodes.f_ext(first, 0), f_ext[0], f_ext[1]);
+    Double8 mass;
+    __builtin_memcpy(&mass, &nodes.mass(first), sizeof mass);
+    inv_m = 1.0 / mass;
+    const Int8 fix = load_ints8(&nodes.fixed(first));
+    fixed[0] = widen((fix & int{kFixX}) != 0);
+    fixed[1] = widen((fix & int{kFixY}) != 0);
+    work = splat<Double8>(0.0);
+  }
+  void store(const Nodes& nodes, const int first, const bool drift) const {
+    store_pairs(&nodes.v(first, 0), v[0], v[1]);
+    if (!drift) return;
+    store_pairs(&nodes.x(first, 0), x[0], x[1]);
+    __builtin_memset(&nodes.f(first, 0), 0, 16 * sizeof(double));
+    // Most nodes carry no load: leave their (zero) lines clean rather than rewrite them.
+    if (any_lane(f_ext[0] != 0.0 || f_ext[1] != 0.0))
+      __builtin_memset(&nodes.f_ext(first, 0), 0, 16 * sizeof(double));
+  }
+  double work_sum() const {
+    double sum = 0.0;
+    for (int l = 0; l < 8; ++l) sum += work[l];
+    return sum;
+  }
+};
+#endif
+
 // One half kick per node. First half (Drift = true): kick, drift, and zero the force and
 // moment accumulators for the next force evaluation; the external work uses v(n+1/2) . f_ext(n).
 // Second half: the work uses v(n+1/2) . f_ext(n+1), then the kick. Returns that work (J).
+// Run by NodeBatches (below): node by node, or eight nodes as Double8 lanes on CPUs.
 template <bool Drift>
 struct HalfKick {
   Nodes nodes;
   double dt;
-  bool rotations;  // the scene has particles (their views are allocated)
+  bool rotations;     // the scene has particles (their views are allocated)
+  bool lanes = true;  // false: node by node (tests)
 
-  KOKKOS_INLINE_FUNCTION void operator()(const int n, double& w) const {
-    const double inv_m = 1.0 / nodes.mass(n);
-    const int fix = nodes.fixed(n);
+  // The translation update of one node, or of eight (T = Double8, Fixed = its lane mask).
+  template <class T, class Fixed>
+  KOKKOS_INLINE_FUNCTION static void update(T (&x)[2], T (&v)[2], const T (&f)[2],
+                                            const T (&f_ext)[2], const T& inv_m,
+                                            const Fixed (&fixed)[2], double dt, T& w) {
     for (int d = 0; d < 2; ++d) {
-      if (!Drift) w += 0.5 * dt * nodes.v(n, d) * nodes.f_ext(n, d);
-      double vd = nodes.v(n, d) + 0.5 * dt * (nodes.f(n, d) + nodes.f_ext(n, d)) * inv_m;
-      if (fix & (1 << d)) vd = 0.0;
-      nodes.v(n, d) = vd;
+      if (!Drift) w += 0.5 * dt * v[d] * f_ext[d];
+      T vd = v[d] + 0.5 * dt * (f[d] + f_ext[d]) * inv_m;
+      vd = fixed[d] ? splat<T>(0.0) : vd;
+      v[d] = vd;
       if (Drift) {
-        nodes.x(n, d) += dt * vd;
-        w += 0.5 * dt * vd * nodes.f_ext(n, d);
-        nodes.f(n, d) = 0.0;
-        // Most nodes carry no load: leave their (zero) line clean rather than rewrite it.
-        if (nodes.f_ext(n, d) != 0.0) nodes.f_ext(n, d) = 0.0;
+        x[d] += dt * vd;
+        w += 0.5 * dt * vd * f_ext[d];
       }
-    }
-    if (rotations) {
-      if (nodes.particle(n)) {
-        const double spin = nodes.spin(n) + 0.5 * dt * nodes.moment(n) / nodes.inertia(n);
-        nodes.spin(n) = spin;
-        if (Drift) nodes.rotation(n) += dt * spin;
-      }
-      if (Drift) nodes.moment(n) = 0.0;
     }
   }
+
+  KOKKOS_INLINE_FUNCTION void rotate(const int n) const {
+    if (nodes.particle(n)) {
+      const double spin = nodes.spin(n) + 0.5 * dt * nodes.moment(n) / nodes.inertia(n);
+      nodes.spin(n) = spin;
+      if (Drift) nodes.rotation(n) += dt * spin;
+    }
+    if (Drift) nodes.moment(n) = 0.0;
+  }
+
+  KOKKOS_INLINE_FUNCTION void node(const int n, double& w) const {
+    double x[2], v[2], f[2], f_ext[2];
+    for (int d = 0; d < 2; ++d) {
+      x[d] = Drift ? nodes.x(n, d) : 0.0;
+      v[d] = nodes.v(n, d);
+      f[d] = nodes.f(n, d);
+      f_ext[d] = nodes.f_ext(n, d);
+    }
+    const int fix = nodes.fixed(n);
+    const bool fixed[2] = {(fix & kFixX) != 0, (fix & kFixY) != 0};
+    update(x, v, f, f_ext, 1.0 / nodes.mass(n), fixed, dt, w);
+    for (int d = 0; d < 2; ++d) {
+      nodes.v(n, d) = v[d];
+      if (Drift) {
+        nodes.x(n, d) = x[d];
+        nodes.f(n, d) = 0.0;
+        // Most nodes carry no load: leave their (zero) line clean rather than rewrite it.
+        if (f_ext[d] != 0.0) nodes.f_ext(n, d) = 0.0;
+      }
+    }
+    if (rotations) rotate(n);
+  }
+
+#ifdef FRACTA_HOST_SIMD
+  // Nodes first .. first + 7.
+  void eight(const int first, double& w) const {
+    EightNodes e(nodes, first, Drift);
+    update(e.x, e.v, e.f, e.f_ext, e.inv_m, e.fixed, dt, e.work);
+    e.store(nodes, first, Drift);
+    w += e.work_sum();
+    if (rotations)
+      for (int n = first; n < first + 8; ++n) rotate(n);
+  }
+#endif
 };
 
 // The second half kick of one step (dt_last) and the first half kick and drift of the next (dt)
@@ -63,8 +139,6 @@ struct KickKickDrift {
   double dt_last, dt;
   bool rotations;
   bool lanes = true;  // false: node by node (tests)
-
-  static int items(int node_count) { return (node_count + kLanes - 1) / kLanes; }
 
   // The translation update of one node, or of eight (T = Double8; Mask: its lane mask).
   template <class T, class Fixed>
@@ -121,64 +195,61 @@ struct KickKickDrift {
 #ifdef FRACTA_HOST_SIMD
   // Nodes first .. first + 7.
   void eight(const int first, double& w) const {
-    Double8 x[2], v[2], f[2], f_ext[2], mass;
-    load_pairs(&nodes.x(first, 0), x[0], x[1]);
-    load_pairs(&nodes.v(first, 0), v[0], v[1]);
-    load_pairs(&nodes.f(first, 0), f[0], f[1]);
-    load_pairs(&nodes.f_ext(first, 0), f_ext[0], f_ext[1]);
-    __builtin_memcpy(&mass, &nodes.mass(first), sizeof mass);
-    const Int8 fix = load_ints8(&nodes.fixed(first));
-    const Mask8 fixed[2] = {widen((fix & int{kFixX}) != 0), widen((fix & int{kFixY}) != 0)};
-    Double8 work = splat<Double8>(0.0);
-    update(x, v, f, f_ext, 1.0 / mass, fixed, dt_last, dt, work);
-    store_pairs(&nodes.x(first, 0), x[0], x[1]);
-    store_pairs(&nodes.v(first, 0), v[0], v[1]);
-    __builtin_memset(&nodes.f(first, 0), 0, 16 * sizeof(double));
-    if (any_lane(f_ext[0] != 0.0 || f_ext[1] != 0.0))
-      __builtin_memset(&nodes.f_ext(first, 0), 0, 16 * sizeof(double));
-    for (int l = 0; l < 8; ++l) w += work[l];
+    EightNodes e(nodes, first, true);
+    update(e.x, e.v, e.f, e.f_ext, e.inv_m, e.fixed, dt_last, dt, e.work);
+    e.store(nodes, first, true);
+    w += e.work_sum();
     if (rotations)
       for (int n = first; n < first + 8; ++n) rotate(n);
   }
 #endif
+};
+
+// Runs a kick (HalfKick, KickKickDrift) over the nodes in work items of kLanes consecutive nodes
+// (simd.hpp: 8 on CPUs, 1 on GPUs): eight() on CPUs where the node rows are interleaved
+// (LayoutRight), node() for the tail and elsewhere. Returns the summed external work (J).
+template <class Kick>
+struct NodeBatches {
+  Kick kick;
 
   KOKKOS_INLINE_FUNCTION void operator()(const int item, double& w) const {
     const int first = item * kLanes;
+    const Nodes& nodes = kick.nodes;
 #ifdef FRACTA_HOST_SIMD
-    // The vector form needs the interleaved (LayoutRight) rows of the CPU build.
-    if (lanes && first + kLanes <= nodes.count && nodes.x.stride_0() == 2 &&
+    if (kick.lanes && first + kLanes <= nodes.count && nodes.x.stride_0() == 2 &&
         nodes.v.stride_0() == 2 && nodes.f.stride_0() == 2 && nodes.f_ext.stride_0() == 2) {
-      eight(first, w);
+      kick.eight(first, w);
       return;
     }
 #endif
     const int last = min_(first + kLanes, nodes.count);
-    for (int n = first; n < last; ++n) node(n, w);
+    for (int n = first; n < last; ++n) kick.node(n, w);
   }
 };
 
-inline double kick_kick_drift(const Nodes& nodes, double dt_last, double dt, bool lanes = true) {
+template <class Kick>
+double run_kick(const char* name, const Kick& kick) {
   double work = 0.0;
-  Kokkos::parallel_reduce("fracta::kick_kick_drift",
-                          Kokkos::RangePolicy<ExecSpace>(0, KickKickDrift::items(nodes.count)),
-                          KickKickDrift{nodes, dt_last, dt, nodes.has_particles(), lanes}, work);
+  const int items = (kick.nodes.count + kLanes - 1) / kLanes;
+  Kokkos::parallel_reduce(name, Kokkos::RangePolicy<ExecSpace>(0, items), NodeBatches<Kick>{kick},
+                          work);
   return work;
+}
+
+// lanes = false: node by node (tests).
+inline double kick_kick_drift(const Nodes& nodes, double dt_last, double dt, bool lanes = true) {
+  return run_kick("fracta::kick_kick_drift",
+                  KickKickDrift{nodes, dt_last, dt, nodes.has_particles(), lanes});
 }
 
 // First half kick and drift. Returns this half's external work (J).
-inline double kick_drift(const Nodes& nodes, double dt) {
-  double work = 0.0;
-  Kokkos::parallel_reduce("fracta::kick_drift", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
-                          HalfKick<true>{nodes, dt, nodes.has_particles()}, work);
-  return work;
+inline double kick_drift(const Nodes& nodes, double dt, bool lanes = true) {
+  return run_kick("fracta::kick_drift", HalfKick<true>{nodes, dt, nodes.has_particles(), lanes});
 }
 
 // Second half kick. Returns this half's external work (J).
-inline double kick(const Nodes& nodes, double dt) {
-  double work = 0.0;
-  Kokkos::parallel_reduce("fracta::kick", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
-                          HalfKick<false>{nodes, dt, nodes.has_particles()}, work);
-  return work;
+inline double kick(const Nodes& nodes, double dt, bool lanes = true) {
+  return run_kick("fracta::kick", HalfKick<false>{nodes, dt, nodes.has_particles(), lanes});
 }
 
 }  // namespace fracta

@@ -80,9 +80,9 @@ TEST(Simulation, DeferredKicksGiveTheSameRunOfARotatingLattice) {
   expect_same_run(c, 200);
 }
 
-// The fused kernel against the two half kicks it replaces, on arbitrary node data; its CPU form
-// (eight nodes as Double8 lanes) against its node-by-node form too. 54 nodes: six batches of
-// eight and a tail of six, some nodes fixed in x or y.
+// The fused kernel against the two half kicks it replaces, on arbitrary node data; the CPU forms
+// of both (eight nodes as Double8 lanes) against their node-by-node forms too. 54 nodes: six
+// batches of eight and a tail of six, some nodes fixed in x or y.
 TEST(Integrate, KickKickDriftEqualsTheTwoHalfKicks) {
   Model m = build_model([] {
     Case c = test::rectangle_case(8, 5, 1e-3, 70e9, 0.25, 2700.0, Formulation::plane_stress);
@@ -99,7 +99,7 @@ TEST(Integrate, KickKickDriftEqualsTheTwoHalfKicks) {
   auto fixed = Kokkos::create_mirror_view(n.fixed);
   for (int i = 0; i < n.count; ++i) fixed(i) = i % 5 == 0 ? kFixX : (i % 7 == 0 ? kFixY : 0);
   Kokkos::deep_copy(n.fixed, fixed);
-  enum Mode { split, lanes, node_by_node };
+  enum Mode { split, split_node_by_node, lanes, node_by_node };
   const auto run = [&](Mode mode, double& work) {
     set(n.v, 3.0, 0.1);
     set(n.x, 1e-2, 0.2);
@@ -109,8 +109,9 @@ TEST(Integrate, KickKickDriftEqualsTheTwoHalfKicks) {
     set(n.rotation, 0.1, 0.6);
     set(n.moment, 1e-3, 0.7);
     const double dt_last = 2e-7, dt = 1.5e-7;
-    work = mode == split ? kick(n, dt_last) + kick_drift(n, dt)
-                         : kick_kick_drift(n, dt_last, dt, mode == lanes);
+    work = mode == split || mode == split_node_by_node
+               ? kick(n, dt_last, mode == split) + kick_drift(n, dt, mode == split)
+               : kick_kick_drift(n, dt_last, dt, mode == lanes);
     View<double*> out("out", 7 * n.count);
     const Nodes nodes = n;
     Kokkos::parallel_for(
@@ -127,8 +128,9 @@ TEST(Integrate, KickKickDriftEqualsTheTwoHalfKicks) {
     return Kokkos::create_mirror_view_and_copy(HostSpace(), out);
   };
   ASSERT_EQ(n.count, 54);
-  double w_split = 0.0, w_fused = 0.0, w_node = 0.0;
+  double w_split = 0.0, w_split_node = 0.0, w_fused = 0.0, w_node = 0.0;
   const auto by_halves = run(split, w_split);
+  const auto by_halves_node_by_node = run(split_node_by_node, w_split_node);
   const auto fused = run(lanes, w_fused);
   const auto fused_node_by_node = run(node_by_node, w_node);
   double scale = 0.0, diff = 0.0, diff_forms = 0.0;
@@ -136,11 +138,13 @@ TEST(Integrate, KickKickDriftEqualsTheTwoHalfKicks) {
     scale = std::max(scale, std::fabs(by_halves(i)));
     diff = std::max(diff, std::fabs(by_halves(i) - fused(i)));
     diff_forms = std::max(diff_forms, std::fabs(fused_node_by_node(i) - fused(i)));
+    diff_forms = std::max(diff_forms, std::fabs(by_halves_node_by_node(i) - by_halves(i)));
   }
   EXPECT_LE(diff, 1e-14 * scale);
   EXPECT_LE(diff_forms, 1e-14 * scale);
   EXPECT_NEAR(w_fused, w_split, 1e-14 * std::fabs(w_split));
   EXPECT_NEAR(w_node, w_split, 1e-14 * std::fabs(w_split));
+  EXPECT_NEAR(w_split_node, w_split, 1e-14 * std::fabs(w_split));
   EXPECT_NE(w_split, 0.0);
 }
 
