@@ -43,6 +43,14 @@ struct EightNodes {
     if (any_lane(f_ext[0] != 0.0 || f_ext[1] != 0.0))
       __builtin_memset(&nodes.f_ext(first, 0), 0, 16 * sizeof(double));
   }
+  // Whether one of the eight is a disc (else their rotation update is clearing the moments).
+  static bool any_particle(const Nodes& nodes, const int first) {
+    const Int8 particle = load_ints8(&nodes.particle(first));
+    return !all_set(particle == 0);
+  }
+  static void clear_moments(const Nodes& nodes, const int first) {
+    __builtin_memset(&nodes.moment(first), 0, 8 * sizeof(double));
+  }
   double work_sum() const {
     double sum = 0.0;
     for (int l = 0; l < 8; ++l) sum += work[l];
@@ -118,8 +126,13 @@ struct HalfKick {
     update(e.x, e.v, e.f, e.f_ext, e.inv_m, e.fixed, dt, e.work);
     e.store(nodes, first, Drift);
     w += e.work_sum();
-    if (rotations)
-      for (int n = first; n < first + 8; ++n) rotate(n);
+    if (rotations) {
+      if (EightNodes::any_particle(nodes, first)) {
+        for (int n = first; n < first + 8; ++n) rotate(n);
+      } else if (Drift) {
+        EightNodes::clear_moments(nodes, first);
+      }
+    }
   }
 #endif
 };
@@ -199,8 +212,13 @@ struct KickKickDrift {
     update(e.x, e.v, e.f, e.f_ext, e.inv_m, e.fixed, dt_last, dt, e.work);
     e.store(nodes, first, true);
     w += e.work_sum();
-    if (rotations)
-      for (int n = first; n < first + 8; ++n) rotate(n);
+    if (rotations) {
+      if (EightNodes::any_particle(nodes, first)) {
+        for (int n = first; n < first + 8; ++n) rotate(n);
+      } else {
+        EightNodes::clear_moments(nodes, first);
+      }
+    }
   }
 #endif
 };

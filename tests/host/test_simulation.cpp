@@ -99,6 +99,10 @@ TEST(Integrate, KickKickDriftEqualsTheTwoHalfKicks) {
   auto fixed = Kokkos::create_mirror_view(n.fixed);
   for (int i = 0; i < n.count; ++i) fixed(i) = i % 5 == 0 ? kFixX : (i % 7 == 0 ? kFixY : 0);
   Kokkos::deep_copy(n.fixed, fixed);
+  // A batch of eight nodes that are not discs (their kick only clears the moments).
+  auto particle = Kokkos::create_mirror_view_and_copy(HostSpace(), n.particle);
+  for (int i = 8; i < 16; ++i) particle(i) = 0;
+  Kokkos::deep_copy(n.particle, particle);
   enum Mode { split, split_node_by_node, lanes, node_by_node };
   const auto run = [&](Mode mode, double& work) {
     set(n.v, 3.0, 0.1);
