@@ -65,6 +65,7 @@ struct EightNodes {
 // Run by NodeBatches (below): node by node, or eight nodes as Double8 lanes on CPUs.
 template <bool Drift>
 struct HalfKick {
+  static constexpr bool drift = Drift;  // moves x, clears the accumulators
   Nodes nodes;
   double dt;
   bool rotations;     // the scene has particles (their views are allocated)
@@ -72,9 +73,8 @@ struct HalfKick {
 
   // The translation update of one node, or of eight (T = Double8, Fixed = its lane mask).
   template <class T, class Fixed>
-  KOKKOS_INLINE_FUNCTION static void update(T (&x)[2], T (&v)[2], const T (&f)[2],
-                                            const T (&f_ext)[2], const T& inv_m,
-                                            const Fixed (&fixed)[2], double dt, T& w) {
+  KOKKOS_INLINE_FUNCTION void translate(T (&x)[2], T (&v)[2], const T (&f)[2], const T (&f_ext)[2],
+                                        const T& inv_m, const Fixed (&fixed)[2], T& w) const {
     for (int d = 0; d < 2; ++d) {
       if (!Drift) w += 0.5 * dt * v[d] * f_ext[d];
       T vd = v[d] + 0.5 * dt * (f[d] + f_ext[d]) * inv_m;
@@ -95,46 +95,6 @@ struct HalfKick {
     }
     if (Drift) nodes.moment(n) = 0.0;
   }
-
-  KOKKOS_INLINE_FUNCTION void node(const int n, double& w) const {
-    double x[2], v[2], f[2], f_ext[2];
-    for (int d = 0; d < 2; ++d) {
-      x[d] = Drift ? nodes.x(n, d) : 0.0;
-      v[d] = nodes.v(n, d);
-      f[d] = nodes.f(n, d);
-      f_ext[d] = nodes.f_ext(n, d);
-    }
-    const int fix = nodes.fixed(n);
-    const bool fixed[2] = {(fix & kFixX) != 0, (fix & kFixY) != 0};
-    update(x, v, f, f_ext, 1.0 / nodes.mass(n), fixed, dt, w);
-    for (int d = 0; d < 2; ++d) {
-      nodes.v(n, d) = v[d];
-      if (Drift) {
-        nodes.x(n, d) = x[d];
-        nodes.f(n, d) = 0.0;
-        // Most nodes carry no load: leave their (zero) line clean rather than rewrite it.
-        if (f_ext[d] != 0.0) nodes.f_ext(n, d) = 0.0;
-      }
-    }
-    if (rotations) rotate(n);
-  }
-
-#ifdef FRACTA_HOST_SIMD
-  // Nodes first .. first + 7.
-  void eight(const int first, double& w) const {
-    EightNodes e(nodes, first, Drift);
-    update(e.x, e.v, e.f, e.f_ext, e.inv_m, e.fixed, dt, e.work);
-    e.store(nodes, first, Drift);
-    w += e.work_sum();
-    if (rotations) {
-      if (EightNodes::any_particle(nodes, first)) {
-        for (int n = first; n < first + 8; ++n) rotate(n);
-      } else if (Drift) {
-        EightNodes::clear_moments(nodes, first);
-      }
-    }
-  }
-#endif
 };
 
 // The second half kick of one step (dt_last) and the first half kick and drift of the next (dt)
@@ -148,17 +108,16 @@ struct HalfKick {
 // states are those of the node-by-node pass; only the external work's rounding differs (the sum's
 // order), as it differs between thread counts.
 struct KickKickDrift {
+  static constexpr bool drift = true;
   Nodes nodes;
   double dt_last, dt;
   bool rotations;
   bool lanes = true;  // false: node by node (tests)
 
-  // The translation update of one node, or of eight (T = Double8; Mask: its lane mask).
+  // The translation update of one node, or of eight (T = Double8, Fixed = its lane mask).
   template <class T, class Fixed>
-  KOKKOS_INLINE_FUNCTION static void update(T (&x)[2], T (&v)[2], const T (&f)[2],
-                                            const T (&f_ext)[2], const T& inv_m,
-                                            const Fixed (&fixed)[2], double dt_last, double dt,
-                                            T& w) {
+  KOKKOS_INLINE_FUNCTION void translate(T (&x)[2], T (&v)[2], const T (&f)[2], const T (&f_ext)[2],
+                                        const T& inv_m, const Fixed (&fixed)[2], T& w) const {
     for (int d = 0; d < 2; ++d) {
       const T force = f[d] + f_ext[d];
       T vd = v[d];
@@ -183,52 +142,57 @@ struct KickKickDrift {
     }
     nodes.moment(n) = 0.0;
   }
+};
+
+// Runs a kick (HalfKick, KickKickDrift: its translate() and rotate()) over the nodes in work
+// items of kLanes consecutive nodes (simd.hpp: 8 on CPUs, 1 on GPUs): eight() on CPUs where the
+// node rows are interleaved (LayoutRight), node() for the tail and elsewhere. run_kick returns
+// the summed external work (J).
+template <class Kick>
+struct NodeBatches {
+  Kick kick;
 
   KOKKOS_INLINE_FUNCTION void node(const int n, double& w) const {
+    const Nodes& nodes = kick.nodes;
     double x[2], v[2], f[2], f_ext[2];
     for (int d = 0; d < 2; ++d) {
-      x[d] = nodes.x(n, d);
+      x[d] = Kick::drift ? nodes.x(n, d) : 0.0;
       v[d] = nodes.v(n, d);
       f[d] = nodes.f(n, d);
       f_ext[d] = nodes.f_ext(n, d);
     }
     const int fix = nodes.fixed(n);
     const bool fixed[2] = {(fix & kFixX) != 0, (fix & kFixY) != 0};
-    update(x, v, f, f_ext, 1.0 / nodes.mass(n), fixed, dt_last, dt, w);
+    kick.translate(x, v, f, f_ext, 1.0 / nodes.mass(n), fixed, w);
     for (int d = 0; d < 2; ++d) {
-      nodes.x(n, d) = x[d];
       nodes.v(n, d) = v[d];
-      nodes.f(n, d) = 0.0;
-      // Most nodes carry no load: leave their (zero) line clean rather than rewrite it.
-      if (f_ext[d] != 0.0) nodes.f_ext(n, d) = 0.0;
+      if (Kick::drift) {
+        nodes.x(n, d) = x[d];
+        nodes.f(n, d) = 0.0;
+        // Most nodes carry no load: leave their (zero) line clean rather than rewrite it.
+        if (f_ext[d] != 0.0) nodes.f_ext(n, d) = 0.0;
+      }
     }
-    if (rotations) rotate(n);
+    if (kick.rotations) kick.rotate(n);
   }
 
 #ifdef FRACTA_HOST_SIMD
   // Nodes first .. first + 7.
   void eight(const int first, double& w) const {
-    EightNodes e(nodes, first, true);
-    update(e.x, e.v, e.f, e.f_ext, e.inv_m, e.fixed, dt_last, dt, e.work);
-    e.store(nodes, first, true);
+    const Nodes& nodes = kick.nodes;
+    EightNodes e(nodes, first, Kick::drift);
+    kick.translate(e.x, e.v, e.f, e.f_ext, e.inv_m, e.fixed, e.work);
+    e.store(nodes, first, Kick::drift);
     w += e.work_sum();
-    if (rotations) {
+    if (kick.rotations) {
       if (EightNodes::any_particle(nodes, first)) {
-        for (int n = first; n < first + 8; ++n) rotate(n);
-      } else {
+        for (int n = first; n < first + 8; ++n) kick.rotate(n);
+      } else if (Kick::drift) {
         EightNodes::clear_moments(nodes, first);
       }
     }
   }
 #endif
-};
-
-// Runs a kick (HalfKick, KickKickDrift) over the nodes in work items of kLanes consecutive nodes
-// (simd.hpp: 8 on CPUs, 1 on GPUs): eight() on CPUs where the node rows are interleaved
-// (LayoutRight), node() for the tail and elsewhere. Returns the summed external work (J).
-template <class Kick>
-struct NodeBatches {
-  Kick kick;
 
   KOKKOS_INLINE_FUNCTION void operator()(const int item, double& w) const {
     const int first = item * kLanes;
@@ -236,12 +200,12 @@ struct NodeBatches {
 #ifdef FRACTA_HOST_SIMD
     if (kick.lanes && first + kLanes <= nodes.count && nodes.x.stride_0() == 2 &&
         nodes.v.stride_0() == 2 && nodes.f.stride_0() == 2 && nodes.f_ext.stride_0() == 2) {
-      kick.eight(first, w);
+      eight(first, w);
       return;
     }
 #endif
     const int last = min_(first + kLanes, nodes.count);
-    for (int n = first; n < last; ++n) kick.node(n, w);
+    for (int n = first; n < last; ++n) node(n, w);
   }
 };
 
