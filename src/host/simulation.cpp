@@ -206,7 +206,10 @@ void Simulation::convert() {
     conversions_this_step_ = 0;
   }
   if (!pending) return;  // no element met its criterion in the force evaluations since last time
-  finish_kick();         // the conversion works on the full step (velocities, energies)
+  // The conversion works on the full step. A deferred second half kick stays pending (the whole
+  // node sweep that finishing it costs is most of a conversion step's integration): the
+  // conversion changes no force, mass or moment it uses (new discs carry no moment yet), and the
+  // one velocity it reads, the new discs' spin, is taken as v(n+1) (prestress_converted_bonds).
   ProfilingRegion region("fracta::conversion");
   Model& m = model_;
   Kokkos::deep_copy(conversion_pending_, 0);
@@ -238,8 +241,9 @@ void Simulation::convert() {
     collect_new_bonds(m.new_cells, n, m.element_bonds, m.bonds, m.lists.bond_candidates);
     collect_new_particles(m.new_cells, n, m.elements, m.nodes, m.lists.particle_candidates);
   }
-  const double element_energy = prestress_converted_bonds(
-      m.new_cells, n, m.element_bonds, m.lattice_stiffness, m.elements, m.nodes, m.bonds);
+  const double element_energy =
+      prestress_converted_bonds(m.new_cells, n, m.element_bonds, m.lattice_stiffness, m.elements,
+                                m.nodes, m.bonds, kick_pending_ ? last_dt_ : 0.0);
   activate_element_bonds(m.new_cells, n, m.element_bonds, m.lattice_stiffness, m.elements, m.nodes,
                          m.bonds);
   finish_converted_bonds(m.new_cells, n, m.element_bonds, m.nodes, m.bonds);

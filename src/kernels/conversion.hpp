@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "kernels/compat.hpp"
+#include "kernels/integrate.hpp"
 #include "kernels/simd.hpp"
 #include "kernels/state.hpp"
 
@@ -293,11 +294,13 @@ inline int compact_candidates(Elements& el, const View<const int*>& adaptive,
 // the spin of discs that were not particles at the element's rotation rate, and returns (via
 // the reduction) the elastic energy the elements held (J). Runs before activate_element_bonds
 // adds the stiffness; finish_converted_bonds then re-bases the normal springs.
+// pending_kick_dt (s): the step of a second half kick still to be applied to nodes.v (the solver
+// defers it, Simulation::step), so the spin is that of v(n+1) either way; 0: v is v(n+1).
 inline double prestress_converted_bonds(const View<int*>& cells, int count,
                                         const View<int* [6]>& element_bonds,
                                         const View<const LatticeStiffness*>& stiffness,
-                                        const Elements& el, const Nodes& nodes,
-                                        const Bonds& bonds) {
+                                        const Elements& el, const Nodes& nodes, const Bonds& bonds,
+                                        const double pending_kick_dt = 0.0) {
   double element_energy = 0.0;
   if (count == 0) return element_energy;
   const int qp = el.qp_per_element;
@@ -347,8 +350,9 @@ inline double prestress_converted_bonds(const View<int*>& cells, int count,
         for (int a = 0; a < 4; ++a) {
           const double bx = (y[(a + 1) % 4] - y[(a + 3) % 4]) / (2.0 * A);
           const double by = (x[(a + 3) % 4] - x[(a + 1) % 4]) / (2.0 * A);
-          const int n = el.nodes(e, a);
-          w += 0.5 * (nodes.v(n, 1) * bx - nodes.v(n, 0) * by);
+          double v[2];
+          kicked_velocity(nodes, el.nodes(e, a), pending_kick_dt, v);
+          w += 0.5 * (v[1] * bx - v[0] * by);
         }
         for (int a = 0; a < 4; ++a) {
           const int n = el.nodes(e, a);

@@ -97,6 +97,22 @@ struct HalfKick {
   }
 };
 
+// The velocity node n has after a second half kick of dt (HalfKick<false>, the same arithmetic)
+// without applying it: what a conversion between a step's force evaluation and its deferred kick
+// reads as v(n+1) (m/s). dt = 0: the stored velocity.
+KOKKOS_INLINE_FUNCTION void kicked_velocity(const Nodes& nodes, const int n, const double dt,
+                                            double (&v)[2]) {
+  v[0] = nodes.v(n, 0);
+  v[1] = nodes.v(n, 1);
+  if (dt == 0.0) return;
+  double x[2] = {0.0, 0.0}, w = 0.0;
+  const double f[2] = {nodes.f(n, 0), nodes.f(n, 1)};
+  const double f_ext[2] = {nodes.f_ext(n, 0), nodes.f_ext(n, 1)};
+  const int fix = nodes.fixed(n);
+  const bool fixed[2] = {(fix & kFixX) != 0, (fix & kFixY) != 0};
+  HalfKick<false>{nodes, dt, false}.translate(x, v, f, f_ext, 1.0 / nodes.mass(n), fixed, w);
+}
+
 // The second half kick of one step (dt_last) and the first half kick and drift of the next (dt)
 // in one pass over the nodes: the same arithmetic as HalfKick<false> then HalfKick<true> (both
 // use the forces of the last evaluation), read and written once. Returns the two halves'

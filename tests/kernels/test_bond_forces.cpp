@@ -386,7 +386,9 @@ TEST(BondForces, CellStressRowBatchesMatchCellByCell) {
       }
       row_batches += consecutive && structured_row<8>(node);
     }
-    if (kLanes > 1) EXPECT_GE(row_batches, reversed ? 10 : 30);
+    if (kLanes > 1) {
+      EXPECT_GE(row_batches, reversed ? 10 : 30);
+    }
     // Pass 0 with the row batches, pass 1 cell by cell.
     // (Copies: a host mirror view of a host view is the view itself.)
     decltype(Kokkos::create_mirror(HostSpace(), m.elements.cell_stress)) stress[2];
