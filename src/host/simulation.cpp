@@ -119,7 +119,7 @@ Simulation::Simulation(const Case& c) : model_(build_model(c)) {
   // Initial forces (dt = 0: no strain increment) give f(0) and the first stable step.
   // The bond network's bound: bonds only weaken or break, so it stays valid until a conversion
   // adds stiffness; it allows 6 contacts per disc.
-  bond_dt_bound_ = bond_stable_dt(model_.nodes, model_.bonds, 6, stable_dt_);
+  bond_dt_bound_ = bond_stable_dt(model_.nodes, model_.bonds, model_.topology, 6, stable_dt_);
   apply_loads(model_.nodes, model_.tables, model_.pressure_edges, model_.nodal_forces,
               c.sim.thickness, 0.0);
   dt_bound_ = evaluate_forces(0.0);
@@ -232,6 +232,11 @@ void Simulation::convert() {
   }
   conversions_this_step_ = n;
   if (n == 0) return;
+  // Interim (session 11): finish a deferred kick before converting. With the kick left pending
+  // the deferred run parted from the plain one in about 1 run in 100 on 2 threads (spin ~1e3
+  // rad/s apart after 8 steps, while two plain runs agreed bitwise): a suspected race in the
+  // kicked-velocity read of prestress_converted_bonds, to be found before it is re-enabled.
+  finish_kick();
   const LatticeTotals before = lattice_totals(m.nodes, m.bonds, 0.0);
   // The slots and nodes this conversion activates go into the lists (state.hpp): collected
   // before the activation, inserted after it; a large batch rebuilds the lists instead.
@@ -269,7 +274,7 @@ void Simulation::convert() {
   const LatticeTotals after = lattice_totals(m.nodes, m.bonds, 0.0);
   conversion_energy_ += element_energy - (after.bond_elastic - before.bond_elastic) -
                         (after.rotational_kinetic - before.rotational_kinetic);
-  bond_dt_bound_ = bond_stable_dt(m.nodes, m.bonds, 6, stable_dt_);
+  bond_dt_bound_ = bond_stable_dt(m.nodes, m.bonds, m.topology, 6, stable_dt_);
   dt_bound_ = std::min(dt_bound_, bond_dt_bound_);
   dt_ = next_dt();
 }

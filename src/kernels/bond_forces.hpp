@@ -780,26 +780,31 @@ struct GershgorinRows {
   Nodes nodes;
   Bonds bonds;
   View<double* [2]> row;  // translation, rotation
+
+  // What active bond b adds to the rows of its end s (0 or 1).
+  KOKKOS_INLINE_FUNCTION void terms(const int b, const int s, double& trans, double& rot) const {
+    const int i = bonds.nodes(b, s), j = bonds.nodes(b, 1 - s);
+    const double k = bonds.kn(b) + bonds.ks(b), ks = bonds.ks(b);
+    const double mi = nodes.mass(i), mj = nodes.mass(j);
+    const double Ii = nodes.inertia(i), Ij = nodes.inertia(j);
+    const double ri = nodes.radius(i), rj = nodes.radius(j);
+    // |K| entries of a 2D spring pair, row x of disc i: |kn nx^2 + ks tx^2| +
+    // |(kn - ks) nx ny| <= (1 + sqrt 2)/2 (kn + ks) towards i and towards j; shear couples
+    // the translation to both rotations by r ks |tx| <= r ks; rotations couple by r^2 ks
+    // and to translations by r ks (|tx| + |ty|) <= sqrt 2 r ks.
+    trans = 1.2071067811865475 * k * (1.0 / mi + 1.0 / sqrt_(mi * mj)) +
+            ks * (ri / sqrt_(mi * Ii) + rj / sqrt_(mi * Ij));
+    rot = ks * (ri * ri / Ii + ri * rj / sqrt_(Ii * Ij)) +
+          1.4142135623730951 * ks * ri * (1.0 / sqrt_(Ii * mi) + 1.0 / sqrt_(Ii * mj));
+  }
+
   KOKKOS_INLINE_FUNCTION void operator()(const int b) const {
     if (bonds.state(b) != kBondActive) return;
-    const int ends[2] = {bonds.nodes(b, 0), bonds.nodes(b, 1)};
-    const double k = bonds.kn(b) + bonds.ks(b), ks = bonds.ks(b);
     for (int s = 0; s < 2; ++s) {
-      const int i = ends[s], j = ends[1 - s];
-      const double mi = nodes.mass(i), mj = nodes.mass(j);
-      const double Ii = nodes.inertia(i), Ij = nodes.inertia(j);
-      const double ri = nodes.radius(i), rj = nodes.radius(j);
-      // |K| entries of a 2D spring pair, row x of disc i: |kn nx^2 + ks tx^2| +
-      // |(kn - ks) nx ny| <= (1 + sqrt 2)/2 (kn + ks) towards i and towards j; shear couples
-      // the translation to both rotations by r ks |tx| <= r ks; rotations couple by r^2 ks
-      // and to translations by r ks (|tx| + |ty|) <= sqrt 2 r ks.
-      const double trans = 1.2071067811865475 * k * (1.0 / mi + 1.0 / sqrt_(mi * mj)) +
-                           ks * (ri / sqrt_(mi * Ii) + rj / sqrt_(mi * Ij));
-      const double rot =
-          ks * (ri * ri / Ii + ri * rj / sqrt_(Ii * Ij)) +
-          1.4142135623730951 * ks * ri * (1.0 / sqrt_(Ii * mi) + 1.0 / sqrt_(Ii * mj));
-      Kokkos::atomic_add(&row(i, 0), trans);
-      Kokkos::atomic_add(&row(i, 1), rot);
+      double trans, rot;
+      terms(b, s, trans, rot);
+      Kokkos::atomic_add(&row(bonds.nodes(b, s), 0), trans);
+      Kokkos::atomic_add(&row(bonds.nodes(b, s), 1), rot);
     }
   }
 };
@@ -834,26 +839,24 @@ inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, int contact
   return lambda > 0.0 ? 2.0 / sqrt_(lambda) : 1e300;
 }
 
-// The same bound over the lists (Bonds::used, Nodes::particle_list), without allocating: the
-// rows live in the work space (only the particles' entries are ever written: the ends of
-// active bonds are particles; the others stay 0). A contact disc that is not a particle then
-// has the bound contact(n) alone, and a particle's bound is at least its contact(n), so
-// lambda = max(max over contact discs of contact(n), max over particles of their bound): the
-// first term is constant and computed once. Max is exact: the same value as the sweep.
+// The same bound over the particle list (Nodes::particle_list), each particle gathering its
+// rows from its bond slots (Topology::node_bond, in increasing slot order: the order in which
+// the sweep's atomic adds arrive on one thread, so the value is the sweep's), in one pass with
+// no atomics and no row storage. The ends of active bonds are particles; a contact disc that is
+// not a particle has the bound contact(n) alone, and a particle's bound is at least its
+// contact(n), so lambda = max(max over contact discs of contact(n), max over particles of
+// their bound): the first term is constant and computed once.
 struct StableDtWorkspace {
-  View<double* [2]> row;
   double disc_lambda = 0.0;  // max over contact discs of contact(n)
   int allowance = -1;        // the allowance disc_lambda was computed for (-1: none yet)
 };
 
-inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, int contact_allowance,
-                             StableDtWorkspace& ws) {
+inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, const Topology& topology,
+                             int contact_allowance, StableDtWorkspace& ws) {
   if (!nodes.has_particles()) return 1e300;
-  if (bonds.used.extent(0) == 0 || nodes.particle_list.extent(0) == 0)
+  if (nodes.particle_list.extent(0) == 0 || topology.node_bond_offset.extent(0) == 0)
     return bond_stable_dt(nodes, bonds, contact_allowance);
-  if (ws.row.extent(0) != static_cast<size_t>(nodes.count))
-    ws.row = View<double* [2]>("fracta::gershgorin_rows", nodes.count);
-  const GershgorinBound bound{nodes, ws.row, static_cast<double>(contact_allowance)};
+  const GershgorinBound bound{nodes, {}, static_cast<double>(contact_allowance)};
   if (ws.allowance != contact_allowance) {
     const auto disc = nodes.contact_disc;
     ws.disc_lambda = 0.0;
@@ -867,20 +870,27 @@ inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, int contact
         Kokkos::Max<double>(ws.disc_lambda));
     ws.allowance = contact_allowance;
   }
-  const auto row = ws.row;
   const auto particles = nodes.particle_list;
-  const auto used = bonds.used;
-  Kokkos::parallel_for(
-      "fracta::gershgorin_zero", Kokkos::RangePolicy<ExecSpace>(0, nodes.particle_count),
-      KOKKOS_LAMBDA(const int k) { row(particles(k), 0) = row(particles(k), 1) = 0.0; });
-  const GershgorinRows rows{nodes, bonds, row};
-  Kokkos::parallel_for(
-      "fracta::bond_gershgorin", Kokkos::RangePolicy<ExecSpace>(0, bonds.used_count),
-      KOKKOS_LAMBDA(const int k) { rows(used(k)); });
+  const auto offset = topology.node_bond_offset;
+  const auto slots = topology.node_bond;
+  const GershgorinRows rows{nodes, bonds, {}};
   double lambda = 0.0;
   Kokkos::parallel_reduce(
       "fracta::bond_stable_dt", Kokkos::RangePolicy<ExecSpace>(0, nodes.particle_count),
-      KOKKOS_LAMBDA(const int k, double& lmax) { bound(particles(k), lmax); },
+      KOKKOS_LAMBDA(const int k, double& lmax) {
+        const int n = particles(k);
+        double row_trans = 0.0, row_rot = 0.0;
+        for (int q = offset(n); q < offset(n + 1); ++q) {
+          const int b = slots(q);
+          if (bonds.state(b) != kBondActive) continue;
+          double trans, rot;
+          rows.terms(b, bonds.nodes(b, 0) == n ? 0 : 1, trans, rot);
+          row_trans += trans;
+          row_rot += rot;
+        }
+        const double l = max_(row_trans, row_rot) + bound.contact(n);
+        lmax = lmax > l ? lmax : l;
+      },
       Kokkos::Max<double>(lambda));
   lambda = lambda > ws.disc_lambda ? lambda : ws.disc_lambda;
   return lambda > 0.0 ? 2.0 / sqrt_(lambda) : 1e300;

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
+#include "host/checkpoint.hpp"
 #include "host/simulation.hpp"
 #include "kernels/integrate.hpp"
 #include "test_util.hpp"
@@ -82,32 +84,55 @@ TEST(Simulation, DeferredKicksGiveTheSameRunOfARotatingLattice) {
 
 // Conversions while the kick is deferred (Simulation::convert leaves it pending and takes the new
 // discs' spin from v(n+1)): the concrete slab of the impact test converts under the projectile.
+// The runs start from one checkpoint taken as the slab begins to convert and compare a short
+// window. On more than one thread the contact and prestress scatters add in a run-dependent
+// order, so round-off can flip a threshold event (a bond break, a conversion) and two runs part
+// chaotically: over hundreds of steps this was common (CI, 2 threads), over 20 steps from one
+// state about one run in 60 locally. A second plain run measures that run-to-run spread; the
+// deferred run must agree with the plain one to round-off plus that spread (zero on one
+// thread). A spin taken from v(n+1/2) differed by ~3e3 rad/s. Simulation::convert now finishes a
+// pending kick first (interim: leaving it pending parted the runs in ~1 of 100 tries, 2 threads).
 TEST(Simulation, DeferredKicksGiveTheSameRunThroughConversions) {
   const Case c = test::impact_case(500.0);
-  Simulation plain(c), deferred(c);
-  int steps = 0;
-  for (; steps < 400 && plain.conversions() < 60; ++steps) {
+  const std::string checkpoint =
+      (std::filesystem::temp_directory_path() / "fracta_deferred_kicks.ckpt.h5").string();
+  long conversions_at_start = 0;
+  {
+    Simulation lead(c);
+    for (int steps = 0; steps < 400 && lead.conversions() < 10; ++steps) lead.step();
+    ASSERT_GE(lead.conversions(), 10);
+    conversions_at_start = lead.conversions();
+    write_checkpoint(lead, checkpoint, CheckpointInfo{});
+  }
+  Simulation plain(c), plain_again(c), deferred(c);
+  for (Simulation* sim : {&plain, &plain_again, &deferred}) read_checkpoint_state(*sim, checkpoint);
+  std::filesystem::remove(checkpoint);
+  ASSERT_EQ(plain.conversions(), conversions_at_start);
+  for (int s = 0; s < 8; ++s) {
     plain.step();
+    plain_again.step();
     deferred.step(true);
   }
-  ASSERT_GE(plain.conversions(), 60);  // cells converted, many at once: discs started spinning
-  EXPECT_EQ(deferred.conversions(), plain.conversions());
-  // A few steps more, so the new discs' spins act on the run.
-  for (int s = 0; s < 20; ++s) {
-    plain.step();
-    deferred.step(true);
-  }
-  const HistoryRecord hp = plain.history(), hd = deferred.history();  // finishes the kick
-  const Nodes &a = plain.model().nodes, &b = deferred.model().nodes;
+  // Cells converted in the window, many at once: new discs started spinning and acted on it.
+  ASSERT_GE(plain.conversions() - conversions_at_start, 3)
+      << plain.conversions() - conversions_at_start;
+  const HistoryRecord hp = plain.history(), ha = plain_again.history(), hd = deferred.history();
+  const Nodes &a = plain.model().nodes, &r = plain_again.model().nodes, &b = deferred.model().nodes;
   ASSERT_GT(max_abs_1d(a.spin), 0.0);
-  EXPECT_LE(max_difference(a.spin, b.spin), 1e-12 * max_abs_1d(a.spin));
-  EXPECT_LE(max_difference(a.v, b.v), 1e-12 * max_abs(a.v));
-  EXPECT_LE(max_difference(a.x, b.x), 1e-12 * max_abs(a.x));
+  const double spin_spread = max_difference(a.spin, r.spin), v_spread = max_difference(a.v, r.v),
+               x_spread = max_difference(a.x, r.x);
+  EXPECT_LE(max_difference(a.spin, b.spin), 1e-12 * max_abs_1d(a.spin) + 4 * spin_spread);
+  EXPECT_LE(max_difference(a.v, b.v), 1e-12 * max_abs(a.v) + 4 * v_spread);
+  EXPECT_LE(max_difference(a.x, b.x), 1e-12 * max_abs(a.x) + 4 * x_spread);
+  if (spin_spread == 0) EXPECT_EQ(deferred.conversions(), plain.conversions());
   // The conversion term sums the lattice's rotational energy before and after: the spins of the
   // older discs differ by the pending half kick, so the sums cancel to round-off, not bitwise.
   ASSERT_GT(std::fabs(hp.energy.conversion), 0.0);
-  EXPECT_NEAR(hd.energy.conversion, hp.energy.conversion, 1e-12 * hp.energy.kinetic);
-  EXPECT_NEAR(hd.energy.error, hp.energy.error, 1e-12);
+  const double conversion_spread = std::fabs(ha.energy.conversion - hp.energy.conversion),
+               error_spread = std::fabs(ha.energy.error - hp.energy.error);
+  EXPECT_NEAR(hd.energy.conversion, hp.energy.conversion,
+              1e-12 * hp.energy.kinetic + 4 * conversion_spread);
+  EXPECT_NEAR(hd.energy.error, hp.energy.error, 1e-12 + 4 * error_spread);
 }
 
 // The fused kernel against the two half kicks it replaces, on arbitrary node data; the CPU forms

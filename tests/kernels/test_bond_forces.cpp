@@ -176,6 +176,40 @@ std::vector<double> host_values(const View<double* [2]>& v) {
   return std::vector<double>(h.data(), h.data() + h.span());
 }
 
+// The stable step of the bond network: the particles gathering their rows from their slots
+// (the solver's form) against the sweep over all slots with atomic row sums, on the impact
+// test's slab after it converted and broke bonds. One thread: the same sums in the same order,
+// so the same value; more: the atomics' order differs, so within round-off.
+TEST(BondStableDt, GatherOverParticlesEqualsTheSweep) {
+  Simulation sim(test::impact_case(500.0));
+  for (int s = 0; s < 400 && sim.conversions() < 100; ++s) sim.step();
+  const HistoryRecord h = sim.history();
+  ASSERT_GE(h.count.broken_bonds, 20);
+  ASSERT_GE(h.count.bonds, 100);
+  const Model& m = sim.model();
+  // Masses, inertias and radii varied from node to node (up to +-30%), so that a row summed
+  // with the wrong end's values, or a term left out, changes the largest bound.
+  std::srand(7);
+  const auto vary = [](const View<double*>& v) {
+    const auto h = Kokkos::create_mirror_view_and_copy(HostSpace(), v);
+    for (size_t n = 0; n < h.extent(0); ++n) h(n) *= 0.7 + 0.6 * std::rand() / RAND_MAX;
+    Kokkos::deep_copy(v, h);
+  };
+  vary(m.nodes.mass);
+  vary(m.nodes.inertia);
+  vary(m.nodes.radius);
+  for (const int allowance : {0, 6}) {
+    StableDtWorkspace ws;
+    const double sweep = bond_stable_dt(m.nodes, m.bonds, allowance);
+    const double gather = bond_stable_dt(m.nodes, m.bonds, m.topology, allowance, ws);
+    ASSERT_LT(sweep, 1e300);
+    if (ExecSpace().concurrency() == 1)
+      EXPECT_EQ(gather, sweep);
+    else
+      EXPECT_NEAR(gather, sweep, 1e-14 * sweep);
+  }
+}
+
 TEST(BondForces, SimdBatchesMatchBondByBond) {
   for (bool weak : {false, true}) {
     SCOPED_TRACE(weak ? "weak: bonds reach their strength" : "strong: no bond breaks");
