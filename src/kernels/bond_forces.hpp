@@ -776,33 +776,34 @@ inline void update_scatter_plan(Bonds& bonds) {
 // the rows of its two discs; `contact_allowance` adds that many contacts of the disc's contact
 // stiffness to every contact disc (particles and FE boundary nodes). Returns 2 / sqrt(lambda_max)
 // (s), or a huge value if no bond.
+// What active bond b adds to the rows of its end s (0 or 1).
+KOKKOS_INLINE_FUNCTION void gershgorin_terms(const Nodes& nodes, const Bonds& bonds, const int b,
+                                             const int s, double& trans, double& rot) {
+  const int i = bonds.nodes(b, s), j = bonds.nodes(b, 1 - s);
+  const double k = bonds.kn(b) + bonds.ks(b), ks = bonds.ks(b);
+  const double mi = nodes.mass(i), mj = nodes.mass(j);
+  const double Ii = nodes.inertia(i), Ij = nodes.inertia(j);
+  const double ri = nodes.radius(i), rj = nodes.radius(j);
+  // |K| entries of a 2D spring pair, row x of disc i: |kn nx^2 + ks tx^2| +
+  // |(kn - ks) nx ny| <= (1 + sqrt 2)/2 (kn + ks) towards i and towards j; shear couples
+  // the translation to both rotations by r ks |tx| <= r ks; rotations couple by r^2 ks
+  // and to translations by r ks (|tx| + |ty|) <= sqrt 2 r ks.
+  trans = 1.2071067811865475 * k * (1.0 / mi + 1.0 / sqrt_(mi * mj)) +
+          ks * (ri / sqrt_(mi * Ii) + rj / sqrt_(mi * Ij));
+  rot = ks * (ri * ri / Ii + ri * rj / sqrt_(Ii * Ij)) +
+        1.4142135623730951 * ks * ri * (1.0 / sqrt_(Ii * mi) + 1.0 / sqrt_(Ii * mj));
+}
+
 struct GershgorinRows {
   Nodes nodes;
   Bonds bonds;
   View<double* [2]> row;  // translation, rotation
 
-  // What active bond b adds to the rows of its end s (0 or 1).
-  KOKKOS_INLINE_FUNCTION void terms(const int b, const int s, double& trans, double& rot) const {
-    const int i = bonds.nodes(b, s), j = bonds.nodes(b, 1 - s);
-    const double k = bonds.kn(b) + bonds.ks(b), ks = bonds.ks(b);
-    const double mi = nodes.mass(i), mj = nodes.mass(j);
-    const double Ii = nodes.inertia(i), Ij = nodes.inertia(j);
-    const double ri = nodes.radius(i), rj = nodes.radius(j);
-    // |K| entries of a 2D spring pair, row x of disc i: |kn nx^2 + ks tx^2| +
-    // |(kn - ks) nx ny| <= (1 + sqrt 2)/2 (kn + ks) towards i and towards j; shear couples
-    // the translation to both rotations by r ks |tx| <= r ks; rotations couple by r^2 ks
-    // and to translations by r ks (|tx| + |ty|) <= sqrt 2 r ks.
-    trans = 1.2071067811865475 * k * (1.0 / mi + 1.0 / sqrt_(mi * mj)) +
-            ks * (ri / sqrt_(mi * Ii) + rj / sqrt_(mi * Ij));
-    rot = ks * (ri * ri / Ii + ri * rj / sqrt_(Ii * Ij)) +
-          1.4142135623730951 * ks * ri * (1.0 / sqrt_(Ii * mi) + 1.0 / sqrt_(Ii * mj));
-  }
-
   KOKKOS_INLINE_FUNCTION void operator()(const int b) const {
     if (bonds.state(b) != kBondActive) return;
     for (int s = 0; s < 2; ++s) {
       double trans, rot;
-      terms(b, s, trans, rot);
+      gershgorin_terms(nodes, bonds, b, s, trans, rot);
       Kokkos::atomic_add(&row(bonds.nodes(b, s), 0), trans);
       Kokkos::atomic_add(&row(bonds.nodes(b, s), 1), rot);
     }
@@ -819,9 +820,13 @@ struct GershgorinBound {
     // (a neighbour of at least a quarter of the mass: a corner node).
     return allowance * 3.7 * nodes.contact_stiffness(n) / nodes.mass(n);
   }
+  // The bound of node n from its row sums.
+  KOKKOS_INLINE_FUNCTION double bound(const int n, const double trans, const double rot) const {
+    return max_(trans, rot) + contact(n);
+  }
   KOKKOS_INLINE_FUNCTION void operator()(const int n, double& lmax) const {
     if (!nodes.particle(n) && !nodes.contact_disc(n)) return;
-    const double l = max_(row(n, 0), row(n, 1)) + contact(n);
+    const double l = bound(n, row(n, 0), row(n, 1));
     lmax = lmax > l ? lmax : l;
   }
 };
@@ -873,7 +878,6 @@ inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, const Topol
   const auto particles = nodes.particle_list;
   const auto offset = topology.node_bond_offset;
   const auto slots = topology.node_bond;
-  const GershgorinRows rows{nodes, bonds, {}};
   double lambda = 0.0;
   Kokkos::parallel_reduce(
       "fracta::bond_stable_dt", Kokkos::RangePolicy<ExecSpace>(0, nodes.particle_count),
@@ -884,11 +888,11 @@ inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, const Topol
           const int b = slots(q);
           if (bonds.state(b) != kBondActive) continue;
           double trans, rot;
-          rows.terms(b, bonds.nodes(b, 0) == n ? 0 : 1, trans, rot);
+          gershgorin_terms(nodes, bonds, b, bonds.nodes(b, 0) == n ? 0 : 1, trans, rot);
           row_trans += trans;
           row_rot += rot;
         }
-        const double l = max_(row_trans, row_rot) + bound.contact(n);
+        const double l = bound.bound(n, row_trans, row_rot);
         lmax = lmax > l ? lmax : l;
       },
       Kokkos::Max<double>(lambda));
