@@ -6,7 +6,7 @@ namespace fracta::cuda_check {
 
 double bond_forces_kernels(const Nodes& nodes, const Elements& elements, const Bonds& bonds,
                            const View<const BondLaw*>& laws, const View<int*>& cells,
-                           const View<const LatticeStiffness*>& stiffness,
+                           const View<const LatticeStiffness*>& stiffness, const Topology& topology,
                            const View<double*>& out) {
   Kokkos::parallel_for(
       "fracta::cuda_check_bilinear_spring", Kokkos::RangePolicy<ExecSpace>(0, out.extent(0)),
@@ -17,7 +17,8 @@ double bond_forces_kernels(const Nodes& nodes, const Elements& elements, const B
   compute_cell_stress(cells, static_cast<int>(cells.extent(0)), stiffness, laws, elements, nodes);
   const BondStepResult r = compute_bond_forces(nodes, elements, bonds, laws, 1e-7);
   StableDtWorkspace ws;
-  return r.fracture_energy + bond_stable_dt(nodes, bonds, 2) + bond_stable_dt(nodes, bonds, 2, ws);
+  return r.fracture_energy + bond_stable_dt(nodes, bonds, 2) +
+         bond_stable_dt(nodes, bonds, topology, 2, ws);
 }
 
 }  // namespace fracta::cuda_check

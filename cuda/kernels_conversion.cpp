@@ -8,7 +8,8 @@ double conversion_kernels(Elements& elements, const Nodes& nodes, const Bonds& b
                           const View<const int*>& adaptive,
                           const View<const MaterialLaw*>& materials,
                           const View<int* [6]>& element_bonds, const View<int*>& new_cells,
-                          View<int*>& active_scratch, const View<double*>& out) {
+                          View<int*>& active_scratch, const Topology& topology,
+                          const View<double*>& out) {
   const Elements el = elements;
   Kokkos::parallel_for(
       "fracta::cuda_check_lattice", Kokkos::RangePolicy<ExecSpace>(0, out.extent(0)),
@@ -27,8 +28,8 @@ double conversion_kernels(Elements& elements, const Nodes& nodes, const Bonds& b
                                    ws.keep, ws.sorted, new_cells, active_scratch);
   collect_new_bonds(new_cells, n, element_bonds, bonds, ws.bond_candidates);
   collect_new_particles(new_cells, n, elements, nodes, ws.particle_candidates);
-  const double energy =
-      prestress_converted_bonds(new_cells, n, element_bonds, stiffness_c, elements, nodes, bonds);
+  const double energy = prestress_converted_bonds(new_cells, n, element_bonds, stiffness_c,
+                                                  elements, nodes, bonds, topology, 1e-9);
   activate_element_bonds(new_cells, n, element_bonds, stiffness_c, elements, nodes, bonds);
   finish_converted_bonds(new_cells, n, element_bonds, nodes, bonds);
   const int used = insert_sorted(bonds.used, bonds.used_count, ws.bond_candidates, 6 * n, ws) +

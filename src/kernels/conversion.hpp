@@ -288,19 +288,49 @@ inline int compact_candidates(Elements& el, const View<const int*>& adaptive,
   return converted;
 }
 
+// Rotation rate (rad/s) of element e at its centre, w = (dvy/dx - dvx/dy) / 2 from the Q4
+// gradient at the centroid, with the velocity v(n+1) (kicked_velocity: pending_kick_dt is the
+// step of a second half kick not yet applied to nodes.v, 0 when v is v(n+1)).
+KOKKOS_INLINE_FUNCTION double element_rotation_rate(const Elements& el, const Nodes& nodes,
+                                                    const int e, const double pending_kick_dt) {
+  double x[4], y[4];
+  for (int a = 0; a < 4; ++a) {
+    x[a] = nodes.x(el.nodes(e, a), 0);
+    y[a] = nodes.x(el.nodes(e, a), 1);
+  }
+  const double A = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
+  double w = 0.0;
+  for (int a = 0; a < 4; ++a) {
+    const double bx = (y[(a + 1) % 4] - y[(a + 3) % 4]) / (2.0 * A);
+    const double by = (x[(a + 3) % 4] - x[(a + 1) % 4]) / (2.0 * A);
+    double v[2];
+    kicked_velocity(nodes, el.nodes(e, a), pending_kick_dt, v);
+    w += 0.5 * (v[1] * bx - v[0] * by);
+  }
+  return w;
+}
+
 // Initial bond forces of newly converted cells (DESIGN.md 1.3): the forces the lattice carries
 // under the element's elastic strain eps = C^-1 sigma, normal kn_e L n.eps.n and shear
 // ks_e L t.eps.n per contribution, so the conversion itself releases no stress wave. Also starts
-// the spin of discs that were not particles at the element's rotation rate, and returns (via
-// the reduction) the elastic energy the elements held (J). Runs before activate_element_bonds
-// adds the stiffness; finish_converted_bonds then re-bases the normal springs.
+// the spin of discs that were not particles, and returns (via the reduction) the elastic energy
+// the elements held (J). Runs before activate_element_bonds adds the stiffness;
+// finish_converted_bonds then re-bases the normal springs.
+// Spin: a new disc takes the mean rotation rate of the cells of this batch it belongs to (the
+// cells around it that are no longer alive: a node that is not yet a particle has no converted
+// cell from an earlier batch), summed in the topology's fixed order and written by the
+// lowest-indexed of them alone. Each cell writing its own rate instead was a race between cells
+// that share a node (the last writer won, so runs on several threads parted).
 // pending_kick_dt (s): the step of a second half kick still to be applied to nodes.v (the solver
 // defers it, Simulation::step), so the spin is that of v(n+1) either way; 0: v is v(n+1).
 inline double prestress_converted_bonds(const View<int*>& cells, int count,
                                         const View<int* [6]>& element_bonds,
                                         const View<const LatticeStiffness*>& stiffness,
                                         const Elements& el, const Nodes& nodes, const Bonds& bonds,
+                                        const Topology& topology,
                                         const double pending_kick_dt = 0.0) {
+  const auto node_element_offset = topology.node_element_offset;
+  const auto node_element = topology.node_element;
   double element_energy = 0.0;
   if (count == 0) return element_energy;
   const int qp = el.qp_per_element;
@@ -339,24 +369,20 @@ inline double prestress_converted_bonds(const View<int*>& cells, int count,
           Kokkos::atomic_add(&bonds.fn(b), kn_e * L * en);
           if (ks_e > 0.0) Kokkos::atomic_add(&bonds.fs(b), ks_e * L * et);
         }
-        // Spin of new discs: the element's rotation rate w = (dvy/dx - dvx/dy) / 2.
-        double x[4], y[4];
-        for (int a = 0; a < 4; ++a) {
-          x[a] = nodes.x(el.nodes(e, a), 0);
-          y[a] = nodes.x(el.nodes(e, a), 1);
-        }
-        const double A = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
-        double w = 0.0;
-        for (int a = 0; a < 4; ++a) {
-          const double bx = (y[(a + 1) % 4] - y[(a + 3) % 4]) / (2.0 * A);
-          const double by = (x[(a + 3) % 4] - x[(a + 1) % 4]) / (2.0 * A);
-          double v[2];
-          kicked_velocity(nodes, el.nodes(e, a), pending_kick_dt, v);
-          w += 0.5 * (v[1] * bx - v[0] * by);
-        }
+        // Spin of new discs: the mean rotation rate of the node's cells in this batch.
         for (int a = 0; a < 4; ++a) {
           const int n = el.nodes(e, a);
-          if (!nodes.particle(n)) nodes.spin(n) = w;
+          if (nodes.particle(n)) continue;
+          int first = e, batch_cells = 0;
+          double w_sum = 0.0;
+          for (int q = node_element_offset(n); q < node_element_offset(n + 1); ++q) {
+            const int c = node_element(q);
+            if (el.alive(c)) continue;
+            first = c < first ? c : first;
+            w_sum += element_rotation_rate(el, nodes, c, pending_kick_dt);
+            ++batch_cells;
+          }
+          if (first == e) nodes.spin(n) = w_sum / batch_cells;
         }
       },
       element_energy);

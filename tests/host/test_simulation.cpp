@@ -90,8 +90,9 @@ TEST(Simulation, DeferredKicksGiveTheSameRunOfARotatingLattice) {
 // chaotically: over hundreds of steps this was common (CI, 2 threads), over 20 steps from one
 // state about one run in 60 locally. A second plain run measures that run-to-run spread; the
 // deferred run must agree with the plain one to round-off plus that spread (zero on one
-// thread). A spin taken from v(n+1/2) differed by ~3e3 rad/s. Simulation::convert now finishes a
-// pending kick first (interim: leaving it pending parted the runs in ~1 of 100 tries, 2 threads).
+// thread). A spin taken from v(n+1/2) differed by ~3e3 rad/s; each converting cell writing its
+// own rate to the discs it shares (a race: the last writer won) parted the runs in 4 of 2000
+// tries on 2 threads (Conversion.NewDiscSpinIsTheMeanRateOfItsBatchCells tests the fixed rule).
 TEST(Simulation, DeferredKicksGiveTheSameRunThroughConversions) {
   const Case c = test::impact_case(500.0);
   const std::string checkpoint =

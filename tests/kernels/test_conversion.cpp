@@ -105,6 +105,64 @@ TEST(Conversion, CandidateCompactionMatchesTheSweep) {
   }
 }
 
+// The spin of a new disc is the mean rotation rate of the cells of its batch around it,
+// whatever the order of the batch (a race before: each cell wrote its own rate to the shared
+// discs, the last writer won). Velocity field v = (-c y^2, c x^2): the Q4 gradient at the centre
+// of a rectangular cell is exact for it, w = (dvy/dx - dvx/dy) / 2 = c (x_c + y_c). Cells 0, 1
+// and 4 of a 3 x 2 block convert (3 stays alive); the disc at (h, h) touches 0, 1 and 4.
+TEST(Conversion, NewDiscSpinIsTheMeanRateOfItsBatchCells) {
+  const double h = 1e-3, c = 2e5;  // 1/(m s)
+  Simulation sim(adaptive_case(3, 2, h));
+  Model& m = sim.model();
+  Nodes& nodes = m.nodes;
+  auto x = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.x);
+  auto v = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.v);
+  for (int n = 0; n < nodes.count; ++n) {
+    v(n, 0) = -c * x(n, 1) * x(n, 1);
+    v(n, 1) = c * x(n, 0) * x(n, 0);
+  }
+  Kokkos::deep_copy(nodes.v, v);
+  const std::vector<int> batch{0, 1, 4};
+  auto alive = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.alive);
+  for (int e : batch) alive(e) = 0;
+  Kokkos::deep_copy(m.elements.alive, alive);
+  // Expected: per node, the mean of c (x_c + y_c) over the batch cells that hold it.
+  auto en = Kokkos::create_mirror_view_and_copy(HostSpace(), m.elements.nodes);
+  std::vector<double> w_sum(nodes.count, 0.0);
+  std::vector<int> cells_of(nodes.count, 0);
+  for (int e : batch) {
+    double xc = 0.0, yc = 0.0;
+    for (int a = 0; a < 4; ++a) {
+      xc += 0.25 * x(en(e, a), 0);
+      yc += 0.25 * x(en(e, a), 1);
+    }
+    for (int a = 0; a < 4; ++a) {
+      w_sum[en(e, a)] += c * (xc + yc);
+      ++cells_of[en(e, a)];
+    }
+  }
+  int shared_by_three = 0;
+  for (int n = 0; n < nodes.count; ++n) shared_by_three += cells_of[n] == 3;
+  ASSERT_EQ(shared_by_three, 1);
+  std::vector<std::vector<double>> spins;
+  for (const std::vector<int>& order : {batch, std::vector<int>{4, 1, 0}}) {
+    Kokkos::deep_copy(nodes.spin, 0.0);
+    View<int*> cells("cells", order.size());
+    auto ch = Kokkos::create_mirror_view(cells);
+    for (size_t k = 0; k < order.size(); ++k) ch(k) = order[k];
+    Kokkos::deep_copy(cells, ch);
+    prestress_converted_bonds(cells, static_cast<int>(order.size()), m.element_bonds,
+                              m.lattice_stiffness, m.elements, nodes, m.bonds, m.topology);
+    auto spin = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.spin);
+    spins.emplace_back(spin.data(), spin.data() + nodes.count);
+    for (int n = 0; n < nodes.count; ++n) {
+      const double expected = cells_of[n] > 0 ? w_sum[n] / cells_of[n] : 0.0;
+      EXPECT_NEAR(spins.back()[n], expected, 1e-12 * c * 6 * h) << "node " << n;
+    }
+  }
+  EXPECT_EQ(spins[0], spins[1]);  // bitwise: the sum runs in the topology's order
+}
+
 // The lists of used bond slots and of particles (state.hpp) equal their definitions after
 // conversions by insertion (small batches) and by rebuilding (a batch beyond the work space).
 TEST(Conversion, BondAndParticleListsFollowTheStates) {
