@@ -15,12 +15,14 @@
 // (none in a short window), the last-good-state snapshot every 100 steps.
 //
 // Usage: penetration --level L [--steps N] [--warmup W] [--base-cell H] [--gap CELLS]
-//                    [--case FILE] [--json FILE]
-// Prints one human-readable line and writes one JSON object (to --json or stdout).
+//                    [--case FILE] [--json FILE] [--kernels N]
+// Prints one human-readable line and writes one JSON object (to --json or stdout). --kernels N
+// also prints the N kernels that took the most time in the window (stderr): a profiling aid.
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <Kokkos_Core.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -63,12 +65,13 @@ struct Options {
   double gap_cells = 1.02;
   std::string case_path = "cases/penetration.toml";  // relative to the repository root
   std::string json_path;
+  int kernels = 0;  // print the top kernels of the window
 };
 
 [[noreturn]] void usage(const char* why) {
   std::fprintf(stderr,
                "penetration: %s\nusage: penetration --level L [--steps N] [--warmup W] "
-               "[--base-cell H] [--gap CELLS] [--case FILE] [--json FILE]\n",
+               "[--base-cell H] [--gap CELLS] [--case FILE] [--json FILE] [--kernels N]\n",
                why);
   std::exit(2);
 }
@@ -93,6 +96,8 @@ Options parse(int argc, char** argv) {
       o.case_path = v;
     else if (a == "--json")
       o.json_path = v;
+    else if (a == "--kernels")
+      o.kernels = std::atoi(v);
     else
       usage(("unknown option " + a).c_str());
   }
@@ -115,6 +120,7 @@ int main(int argc, char** argv) {
   Kokkos::ScopeGuard kokkos(argc, argv);
   const Options o = parse(argc, argv);
   bench::RegionTimer::install();
+  if (o.kernels > 0) bench::KernelTimer::install();
 
   const double h = o.base_cell / o.level;
   std::vector<std::string> set = {"simulation.end_time=1.0"};  // never reached
@@ -154,6 +160,7 @@ int main(int argc, char** argv) {
     };
     const long rebuilds0 = rebuilds();
     bench::RegionTimer::reset();
+    bench::KernelTimer::reset();
     const double eps = 1e-12;
     double next_history = sim.time() + c.sim.history_interval;
     double next_frame = sim.time() + (c.sim.output_interval > 0 ? c.sim.output_interval : 1.0);
@@ -225,6 +232,17 @@ int main(int argc, char** argv) {
       js << "\"" << (p + 8) << "\": " << bench::RegionTimer::get(p).calls << ", ";
     js << "\"step\": " << bench::RegionTimer::get("fracta::step").calls << "}}";
     (void)totals;
+    if (o.kernels > 0) {
+      std::vector<std::pair<double, std::string>> top;
+      for (const auto& [name, t] : bench::KernelTimer::totals()) top.emplace_back(t.seconds, name);
+      std::sort(top.rbegin(), top.rend());
+      std::fprintf(stderr, "%-48s %10s %8s %10s\n", "kernel", "ms", "calls", "us/call");
+      for (size_t k = 0; k < top.size() && k < static_cast<size_t>(o.kernels); ++k) {
+        const auto& t = bench::KernelTimer::totals().at(top[k].second);
+        std::fprintf(stderr, "%-48s %10.2f %8ld %10.1f\n", top[k].second.c_str(), 1e3 * t.seconds,
+                     t.calls, 1e6 * t.seconds / t.calls);
+      }
+    }
 
     std::fprintf(stderr,
                  "level %d (h = %.4g mm), %d threads: %d nodes, %.0f elements, %.0f particles, "

@@ -73,4 +73,46 @@ class RegionTimer {
   }
 };
 
+// Wall time per kernel name (parallel_for / reduce / scan), through the same tools callbacks:
+// where a phase's time goes, kernel by kernel. A kernel's time runs from its launch to its end
+// (on OpenMP the launch is synchronous). `calls` counts launches.
+class KernelTimer {
+ public:
+  static void install() {
+    namespace T = Kokkos::Tools::Experimental;
+    T::set_begin_parallel_for_callback(&begin);
+    T::set_end_parallel_for_callback(&end);
+    T::set_begin_parallel_reduce_callback(&begin);
+    T::set_end_parallel_reduce_callback(&end);
+    T::set_begin_parallel_scan_callback(&begin);
+    T::set_end_parallel_scan_callback(&end);
+  }
+  static void reset() { state().totals.clear(); }
+  static const std::map<std::string, RegionTotals>& totals() { return state().totals; }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  struct State {
+    std::vector<std::pair<std::string, Clock::time_point>> open;  // indexed by kernel id
+    std::map<std::string, RegionTotals> totals;
+  };
+  static State& state() {
+    static State s;
+    return s;
+  }
+  static void begin(const char* name, const uint32_t, uint64_t* id) {
+    State& s = state();
+    *id = s.open.size();
+    s.open.emplace_back(name, Clock::now());
+  }
+  static void end(const uint64_t id) {
+    State& s = state();
+    if (id >= s.open.size()) return;
+    RegionTotals& t = s.totals[s.open[id].first];
+    t.seconds += std::chrono::duration<double>(Clock::now() - s.open[id].second).count();
+    ++t.calls;
+    if (id + 1 == s.open.size()) s.open.pop_back();  // kernels do not overlap on the host
+  }
+};
+
 }  // namespace fracta::bench

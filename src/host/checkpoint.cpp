@@ -285,6 +285,7 @@ struct CheckpointIO {
     for_each_state_view(live, live, [&](const char* name, const auto& v, const auto&) {
       read_view(state.get(), name, v);
     });
+    s.stable_dt_.invalidate();  // the bonds and radii were replaced
     H5Handle scalar_group(H5Gopen2(file, "scalars", H5P_DEFAULT), H5Gclose,
                           "group /scalars is missing");
     scalars(s, [&](const char* name, auto& value) {

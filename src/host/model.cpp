@@ -449,6 +449,7 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   bonds.used_count = build_used_bonds(bonds);
   update_scatter_plan(bonds);
   nodes.particle_list = View<int*>("fracta::node_particle_list", nn);
+  nodes.bound_stale = View<int*>("fracta::node_bound_stale", nn);
   nodes.particle_count = build_particle_list(nodes);
   model.lists = ListWorkspace(std::max(nb, nn));
   model.contacts->track_surface(surface_nodes, nodes);

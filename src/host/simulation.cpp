@@ -119,6 +119,7 @@ Simulation::Simulation(const Case& c) : model_(build_model(c)) {
   // Initial forces (dt = 0: no strain increment) give f(0) and the first stable step.
   // The bond network's bound: bonds only weaken or break, so it stays valid until a conversion
   // adds stiffness; it allows 6 contacts per disc.
+  stable_dt_.cache = true;
   bond_dt_bound_ = bond_stable_dt(model_.nodes, model_.bonds, model_.topology, 6, stable_dt_);
   apply_loads(model_.nodes, model_.tables, model_.pressure_edges, model_.nodal_forces,
               c.sim.thickness, 0.0);
@@ -247,6 +248,7 @@ void Simulation::convert() {
   activate_element_bonds(m.new_cells, n, m.element_bonds, m.lattice_stiffness, m.elements, m.nodes,
                          m.bonds);
   finish_converted_bonds(m.new_cells, n, m.element_bonds, m.nodes, m.bonds);
+  mark_converted_rows(m.new_cells, n, m.elements, m.nodes, m.bonds, m.topology);
   if (insert) {
     m.bonds.used_count =
         insert_sorted(m.bonds.used, m.bonds.used_count, m.lists.bond_candidates, 6 * n, m.lists);
@@ -548,7 +550,8 @@ void Simulation::save_snapshot() {
 }
 
 void Simulation::restore_snapshot() {
-  kick_pending_ = false;  // the snapshot holds a full step
+  kick_pending_ = false;    // the snapshot holds a full step
+  stable_dt_.invalidate();  // the bonds and radii are replaced
   StateViews live = state_views();
   for_each_state_view(live, snapshot_.views, [](const char*, const auto& to, const auto& saved) {
     Kokkos::deep_copy(to, saved);

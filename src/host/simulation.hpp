@@ -30,7 +30,10 @@ class Simulation {
   double dt() const { return dt_; }
   long steps() const { return steps_; }
   long conversions() const { return conversions_; }
-  double stable_dt_bound() const { return dt_bound_; }  // before the safety factor (s)
+  double stable_dt_bound() const { return dt_bound_; }            // before the safety factor (s)
+  double bond_stable_dt_bound() const { return bond_dt_bound_; }  // the bond network's (s)
+  // Per-particle Gershgorin bounds as the last conversion cached them (tests).
+  const StableDtWorkspace& bond_stable_dt_workspace() const { return stable_dt_; }
 
   HistoryRecord history();  // energies, counts and conservation totals now
   std::vector<ProbeRecord> probe_records();
@@ -74,7 +77,7 @@ class Simulation {
   View<double* [7]> probe_values_;
   FragmentWorkspace fragments_;
   View<double*[3]> contact_force_, contact_force_prev_;
-  StableDtWorkspace stable_dt_;  // bond_stable_dt without allocations
+  StableDtWorkspace stable_dt_;  // bond_stable_dt without allocations, per-particle cache
   // Counts the adaptive elements the FE kernel flagged for conversion since the last one;
   // the candidates hold the first ones' active indices (compact_candidates).
   View<int> conversion_pending_{"fracta::conversion_pending"};

@@ -673,6 +673,7 @@ struct BondForces {
         energy -= 0.5 * kc * overlap * overlap;
       }
       bonds.state(b) = kBondBroken;
+      if (nodes.bound_stale.extent(0) > 0) nodes.bound_stale(i) = nodes.bound_stale(j) = 1;
       mark_cells_cracked(b);
       bonds.fn(b) = 0.0;
       bonds.fs(b) = 0.0;
@@ -851,9 +852,19 @@ inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, int contact
 // not a particle has the bound contact(n) alone, and a particle's bound is at least its
 // contact(n), so lambda = max(max over contact discs of contact(n), max over particles of
 // their bound): the first term is constant and computed once.
+// With `cache` set, each particle's bound is kept and recomputed only when Nodes::bound_stale
+// flags it (set where a row can change: a bond breaking, mark_converted_rows): between
+// conversions few rows change, and a particle's row is the same sum of the same terms, so the
+// value is the one of a full pass. invalidate() after the state was replaced (a restore).
+// Without `cache`, a `bound` view of nodes.count entries given by the caller receives every
+// particle's bound (tests), and the stale flags are left alone.
 struct StableDtWorkspace {
   double disc_lambda = 0.0;  // max over contact discs of contact(n)
   int allowance = -1;        // the allowance disc_lambda was computed for (-1: none yet)
+  bool cache = false;        // keep per-particle bounds (one workspace per model may)
+  bool cached = false;       // `bound` holds every particle's current bound but the stale ones
+  View<double*> bound;       // per node, 1/s^2
+  void invalidate() { cached = false; }
 };
 
 inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, const Topology& topology,
@@ -874,30 +885,73 @@ inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, const Topol
         },
         Kokkos::Max<double>(ws.disc_lambda));
     ws.allowance = contact_allowance;
+    ws.cached = false;
   }
+  const bool cache = ws.cache && nodes.bound_stale.extent(0) > 0;
+  if (cache && ws.bound.extent(0) != static_cast<size_t>(nodes.count)) {
+    ws.bound = View<double*>(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::particle_stable_bound"),
+        nodes.count);
+    ws.cached = false;
+  }
+  const bool all = !cache || !ws.cached;  // recompute every particle
+  const bool write_bound = ws.bound.extent(0) == static_cast<size_t>(nodes.count);
   const auto particles = nodes.particle_list;
   const auto offset = topology.node_bond_offset;
   const auto slots = topology.node_bond;
+  const auto stale = nodes.bound_stale;
+  const auto cached_bound = ws.bound;
   double lambda = 0.0;
   Kokkos::parallel_reduce(
       "fracta::bond_stable_dt", Kokkos::RangePolicy<ExecSpace>(0, nodes.particle_count),
       KOKKOS_LAMBDA(const int k, double& lmax) {
         const int n = particles(k);
-        double row_trans = 0.0, row_rot = 0.0;
-        for (int q = offset(n); q < offset(n + 1); ++q) {
-          const int b = slots(q);
-          if (bonds.state(b) != kBondActive) continue;
-          double trans, rot;
-          gershgorin_terms(nodes, bonds, b, bonds.nodes(b, 0) == n ? 0 : 1, trans, rot);
-          row_trans += trans;
-          row_rot += rot;
+        double l;
+        if (all || stale(n)) {
+          double row_trans = 0.0, row_rot = 0.0;
+          for (int q = offset(n); q < offset(n + 1); ++q) {
+            const int b = slots(q);
+            if (bonds.state(b) != kBondActive) continue;
+            double trans, rot;
+            gershgorin_terms(nodes, bonds, b, bonds.nodes(b, 0) == n ? 0 : 1, trans, rot);
+            row_trans += trans;
+            row_rot += rot;
+          }
+          l = bound.bound(n, row_trans, row_rot);
+          if (write_bound) cached_bound(n) = l;
+          if (cache) stale(n) = 0;
+        } else {
+          l = cached_bound(n);
         }
-        const double l = bound.bound(n, row_trans, row_rot);
         lmax = lmax > l ? lmax : l;
       },
       Kokkos::Max<double>(lambda));
+  ws.cached = cache;
   lambda = lambda > ws.disc_lambda ? lambda : ws.disc_lambda;
   return lambda > 0.0 ? 2.0 / sqrt_(lambda) : 1e300;
+}
+
+// Flags the rows a conversion changed (Nodes::bound_stale): every node of the new cells (their
+// bonds activate, their radii shrink) and every bond neighbour of those nodes (a row holds the
+// other end's radius, mass and inertia).
+inline void mark_converted_rows(const View<int*>& cells, int count, const Elements& el,
+                                const Nodes& nodes, const Bonds& bonds, const Topology& topology) {
+  if (count == 0 || nodes.bound_stale.extent(0) == 0 || topology.node_bond_offset.extent(0) == 0)
+    return;
+  const auto stale = nodes.bound_stale;
+  const auto offset = topology.node_bond_offset;
+  const auto slots = topology.node_bond;
+  Kokkos::parallel_for(
+      "fracta::mark_converted_rows", Kokkos::RangePolicy<ExecSpace>(0, 4 * count),
+      KOKKOS_LAMBDA(const int k) {
+        const int n = el.nodes(cells(k / 4), k % 4);
+        stale(n) = 1;  // every writer writes 1
+        for (int q = offset(n); q < offset(n + 1); ++q) {
+          const int b = slots(q);
+          if (bonds.state(b) != kBondActive) continue;
+          stale(bonds.nodes(b, 0) == n ? bonds.nodes(b, 1) : bonds.nodes(b, 0)) = 1;
+        }
+      });
 }
 
 }  // namespace fracta

@@ -44,6 +44,10 @@ struct Nodes {
   // Empty view when the scene has no lattice: kernels then sweep every node.
   View<int*> particle_list;
   int particle_count = 0;
+  // 1 once a change of the node's bonds (a bond broke, its cell converted, a neighbour's radius
+  // shrank) left its cached Gershgorin bound stale (bond_stable_dt, StableDtWorkspace); the
+  // cache clears it. Empty view: no cache is kept.
+  View<int*> bound_stale;
   bool has_particles() const { return particle.extent(0) > 0; }
 };
 

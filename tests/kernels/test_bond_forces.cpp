@@ -210,6 +210,41 @@ TEST(BondStableDt, GatherOverParticlesEqualsTheSweep) {
   }
 }
 
+// The solver keeps each particle's bound and recomputes only the rows flagged stale (a bond
+// broke, a conversion touched the row): after every conversion of an impact that breaks bonds,
+// each particle's kept bound and the solver's step equal those of a full pass, bitwise.
+TEST(BondStableDt, CachedBoundsEqualAFullPass) {
+  Simulation sim(test::impact_case(500.0));
+  const Model& m = sim.model();
+  long conversions = 0, checked = 0, particles_checked = 0;
+  long broken_between = 0, broken = 0;
+  for (int s = 0; s < 400 && sim.conversions() < 150; ++s) {
+    sim.step();
+    const long broken_now = sim.history().count.broken_bonds;
+    if (sim.conversions() == conversions) continue;  // the bound is recomputed at conversions
+    if (broken_now > broken) ++broken_between;
+    conversions = sim.conversions();
+    broken = broken_now;
+    StableDtWorkspace full;  // no cache: every row, flags untouched
+    full.bound = View<double*>("full_bound", m.nodes.count);
+    const double dt_full = bond_stable_dt(m.nodes, m.bonds, m.topology, 6, full);
+    EXPECT_EQ(sim.bond_stable_dt_bound(), dt_full) << "step " << s;
+    const auto kept =
+        Kokkos::create_mirror_view_and_copy(HostSpace(), sim.bond_stable_dt_workspace().bound);
+    const auto fresh = Kokkos::create_mirror_view_and_copy(HostSpace(), full.bound);
+    const auto list = Kokkos::create_mirror_view_and_copy(HostSpace(), m.nodes.particle_list);
+    int differing = 0;
+    for (int k = 0; k < m.nodes.particle_count; ++k) differing += kept(list(k)) != fresh(list(k));
+    EXPECT_EQ(differing, 0) << "step " << s << ": of " << m.nodes.particle_count << " particles";
+    particles_checked += m.nodes.particle_count;
+    ++checked;
+  }
+  ASSERT_GE(checked, 20);
+  ASSERT_GE(broken_between, 5);  // bonds broke between conversions: flagged rows were used
+  RecordProperty("conversion_steps_checked", std::to_string(checked));
+  RecordProperty("particle_bounds_checked", std::to_string(particles_checked));
+}
+
 TEST(BondForces, SimdBatchesMatchBondByBond) {
   for (bool weak : {false, true}) {
     SCOPED_TRACE(weak ? "weak: bonds reach their strength" : "strong: no bond breaks");
