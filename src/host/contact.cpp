@@ -143,11 +143,25 @@ ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, const Topolo
           Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_pair_joins"),
           pair_i_.extent(0));
     pair_topology(topo, pair_i_, pair_j_, pair_count_, pair_joins_);
+    const size_t n = discs_.extent(0), pairs = pair_i_.extent(0);
+    if (gather_.row_begin.extent(0) != n + 1) {
+      gather_.row_begin = View<int*>("fracta::contact_row_begin", n + 1);
+      gather_.col_offset = View<int*>("fracta::contact_col_offset", n + 1);
+      gather_.col_cursor = View<int*>("fracta::contact_col_cursor", n);
+    }
+    if (gather_.col_pairs.extent(0) < pairs) {
+      gather_.col_pairs = View<int*>(
+          Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_col_pairs"), pairs);
+      gather_.pair_force = View<double* [4]>(
+          Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_pair_force"),
+          std::max<size_t>(pairs, 1));
+    }
+    build_contact_gather(discs_, pair_i_, pair_j_, pair_count_, gather_);
     joins_built_ = true;
     joins_topology_ = topo.node_bond.data();
   }
-  const ContactSums s =
-      contact_forces(nodes, topo, pair_i_, pair_j_, pair_count_, law_, dt, pair_joins_);
+  const ContactSums s = contact_forces(nodes, topo, pair_i_, pair_j_, pair_count_, law_, dt,
+                                       pair_joins_, gather_, discs_);
   Kokkos::Profiling::popRegion();
   ContactStepResult r;
   r.elastic_energy = s.v[0];

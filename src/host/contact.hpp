@@ -118,6 +118,7 @@ class ContactSystem {
   View<int*> row_offset_;
   View<int*> pair_i_, pair_j_;  // capacity >= pair_count_
   View<int* [3]> pair_joins_;   // pair_topology of the list, when joins_built_
+  ContactGather gather_;        // rows and columns of the list, when joins_built_
   bool joins_built_ = false;
   const void* joins_topology_ = nullptr;  // the Topology (its node -> bond list) they came from
   long pair_count_ = 0;

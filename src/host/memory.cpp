@@ -46,8 +46,9 @@ constexpr double kQuadraturePointBytes = 56;
 constexpr double kRunBytesPerCell = 450;
 // Nodes of any model with a lattice (a convertible body, or several bodies in contact): the
 // particle views (flags, radius, inertia, rotation, spin, moment, contact stiffness), topology
-// offsets, and the host lists build_lattice fills on the way (node -> bonds, node -> elements).
-constexpr double kLatticeNodeBytes = 56 + 8 + 2 * 56;
+// offsets, the stable-step cache (stale flag, bound), and the host lists build_lattice fills on
+// the way (node -> bonds, node -> elements).
+constexpr double kLatticeNodeBytes = 56 + 8 + 12 + 2 * 56;
 // Elements of any model with a lattice: element bond slots, cell stress, intact flag, strain
 // offset, conversion workspace.
 constexpr double kLatticeElementBytes = 88;
@@ -58,8 +59,10 @@ constexpr double kLatticeElementBytes = 88;
 // Cohesive state (damage, onset and final separation) adds 24 B per slot.
 constexpr double kConvertibleCellBytes = 4 * (108 + 24) + 32 + 16 + 232 + 350;
 // Contact discs (every node of a convertible body, the boundary nodes of the others): disc id,
-// position at the last build, binning, candidate pairs.
-constexpr double kDiscBytes = 56;
+// position at the last build, binning, candidate pairs; the gather's rows and columns (12 B)
+// and, per candidate pair (about 2 per disc of a lattice: the edge neighbours), its column
+// entry and stored force (36 B).
+constexpr double kDiscBytes = 56 + 12 + 2 * 36;
 
 // Indices are 32-bit ints (node ids, element ids, 4 bond slots per cell): keep well below.
 constexpr double kMaxCells = INT_MAX / 8.0;

@@ -113,8 +113,12 @@ struct ContactForceKernel {
   Topology topo;
   ContactLaw law;
   double dt;
+  View<double* [4]> pair_force;  // ContactGather::pair_force, or empty: add atomically
 
   KOKKOS_INLINE_FUNCTION void operator()(const int p, ContactSums& sums) const {
+    const bool gather = pair_force.extent(0) > 0;
+    if (gather)
+      for (int c = 0; c < 4; ++c) pair_force(p, c) = 0.0;  // a pair out of contact adds nothing
     const int i = pair_i(p), j = pair_j(p);
     const double dx = x(j, 0) - x(i, 0), dy = x(j, 1) - x(i, 1);
     const double ri = radius(i), rj = radius(j);
@@ -151,12 +155,19 @@ struct ContactForceKernel {
     const double fs = law.friction * fn * vt / max_(fabs_(vt), v_reg);
 
     const double fx = -fn * nx + fs * tx, fy = -fn * ny + fs * ty;  // on disc i
-    Kokkos::atomic_add(&f(i, 0), fx);
-    Kokkos::atomic_add(&f(i, 1), fy);
-    Kokkos::atomic_add(&f(j, 0), -fx);
-    Kokkos::atomic_add(&f(j, 1), -fy);
-    if (rot_i) Kokkos::atomic_add(&moment(i), ai * fs);
-    if (rot_j) Kokkos::atomic_add(&moment(j), aj * fs);
+    if (gather) {
+      pair_force(p, 0) = fx;
+      pair_force(p, 1) = fy;
+      pair_force(p, 2) = ai * fs;
+      pair_force(p, 3) = aj * fs;
+    } else {
+      Kokkos::atomic_add(&f(i, 0), fx);
+      Kokkos::atomic_add(&f(i, 1), fy);
+      Kokkos::atomic_add(&f(j, 0), -fx);
+      Kokkos::atomic_add(&f(j, 1), -fy);
+      if (rot_i) Kokkos::atomic_add(&moment(i), ai * fs);
+      if (rot_j) Kokkos::atomic_add(&moment(j), aj * fs);
+    }
 
     // Dissipation with the full-step rates the pair's own force produces (see the header).
     const double delta_dot_full = delta_dot - 0.5 * dt * fn * (inv_mi + inv_mj);
@@ -174,32 +185,146 @@ struct ContactForceKernel {
   }
 };
 
+// Forces added in a fixed order (no atomics), so a run is the same run every time on any
+// number of threads: the pair kernel stores each pair's force and moments, then every disc
+// gathers its pairs. The pair list of the pre-search (neighbor_search.hpp) is row by row in
+// increasing i, and i < j, so in pair order a disc's pairs as j (its column) all come before
+// its pairs as i (its row): the gather adds the column, then the row, each in pair order, onto
+// the accumulator: the order and so the sums of the atomic adds on one thread.
+struct ContactGather {
+  View<int*> row_begin;          // disc a's pairs as i: [row_begin(a), row_begin(a + 1))
+  View<int*> col_offset;         // disc b's pairs as j: col_pairs[col_offset(b), col_offset(b+1))
+  View<int*> col_cursor;         // work space of the fill
+  View<int*> col_pairs;          // pair indices, increasing within a column
+  View<double* [4]> pair_force;  // per pair: fx, fy on i (N); moment on i, moment on j (N m)
+  bool built() const { return pair_force.extent(0) > 0; }
+};
+
+// First index of [0, count) whose value is >= key, in the non-decreasing list.
+KOKKOS_INLINE_FUNCTION int lower_bound_(const View<const int*>& list, int count, int key) {
+  int lo = 0, hi = count;
+  while (lo < hi) {
+    const int mid = (lo + hi) / 2;
+    if (list(mid) < key)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo;
+}
+
+// The rows and columns of the candidate list [0, count) over the contact discs (node ids,
+// increasing; pair_i non-decreasing, i < j): views sized by the caller (row_begin and
+// col_offset n + 1, col_cursor n, col_pairs and pair_force >= count). The column fill takes
+// slots by atomic counters; sorting each column by pair index makes the result independent of
+// their order.
+inline void build_contact_gather(const View<const int*>& discs, const View<const int*>& pair_i,
+                                 const View<const int*>& pair_j, long count,
+                                 const ContactGather& g) {
+  const int n = static_cast<int>(discs.extent(0));
+  const int pairs = static_cast<int>(count);
+  const auto row_begin = g.row_begin, col_offset = g.col_offset, cursor = g.col_cursor;
+  const auto col_pairs = g.col_pairs;
+  Kokkos::parallel_for(
+      "fracta::contact_gather_rows", Kokkos::RangePolicy<ExecSpace>(0, n + 1),
+      KOKKOS_LAMBDA(const int a) {
+        row_begin(a) = a < n ? lower_bound_(pair_i, pairs, discs(a)) : pairs;
+      });
+  Kokkos::deep_copy(cursor, 0);
+  Kokkos::parallel_for(
+      "fracta::contact_gather_count", Kokkos::RangePolicy<ExecSpace>(0, pairs),
+      KOKKOS_LAMBDA(const int k) {
+        Kokkos::atomic_increment(&cursor(lower_bound_(discs, n, pair_j(k))));
+      });
+  Kokkos::parallel_scan(
+      "fracta::contact_gather_scan", Kokkos::RangePolicy<ExecSpace>(0, n + 1),
+      KOKKOS_LAMBDA(const int b, int& sum, const bool final) {
+        const int c = b < n ? cursor(b) : 0;
+        if (final) col_offset(b) = sum;
+        sum += c;
+      });
+  Kokkos::deep_copy(cursor, 0);
+  Kokkos::parallel_for(
+      "fracta::contact_gather_fill", Kokkos::RangePolicy<ExecSpace>(0, pairs),
+      KOKKOS_LAMBDA(const int k) {
+        const int b = lower_bound_(discs, n, pair_j(k));
+        col_pairs(col_offset(b) + Kokkos::atomic_fetch_add(&cursor(b), 1)) = k;
+      });
+  Kokkos::parallel_for(
+      "fracta::contact_gather_sort", Kokkos::RangePolicy<ExecSpace>(0, n),
+      KOKKOS_LAMBDA(const int b) {
+        const int begin = col_offset(b), end = col_offset(b + 1);
+        for (int q = begin + 1; q < end; ++q) {
+          const int v = col_pairs(q);
+          int m = q - 1;
+          while (m >= begin && col_pairs(m) > v) {
+            col_pairs(m + 1) = col_pairs(m);
+            --m;
+          }
+          col_pairs(m + 1) = v;
+        }
+      });
+}
+
+// Each disc adds its pairs' stored forces: the column (as j: minus the force, its own moment)
+// then the row (as i). A pair out of contact stored zeros and adds nothing.
+inline void gather_contact_forces(const Nodes& nodes, const View<const int*>& discs,
+                                  const ContactGather& g) {
+  const auto row_begin = g.row_begin, col_offset = g.col_offset, col_pairs = g.col_pairs;
+  const auto pf = g.pair_force;
+  const auto f = nodes.f;
+  const auto moment = nodes.moment;
+  const auto particle = nodes.particle;
+  const auto inertia = nodes.inertia;
+  Kokkos::parallel_for(
+      "fracta::contact_gather", Kokkos::RangePolicy<ExecSpace>(0, discs.extent(0)),
+      KOKKOS_LAMBDA(const int a) {
+        const int i = discs(a);
+        const bool rot = particle(i) != 0 && inertia(i) > 0.0;  // as the pair kernel's rot_i
+        double fx = f(i, 0), fy = f(i, 1), m = rot ? moment(i) : 0.0;
+        for (int q = col_offset(a); q < col_offset(a + 1); ++q) {
+          const int k = col_pairs(q);
+          if (pf(k, 0) != 0.0 || pf(k, 1) != 0.0) {
+            fx += -pf(k, 0);
+            fy += -pf(k, 1);
+          }
+          if (pf(k, 3) != 0.0) m += pf(k, 3);
+        }
+        for (int k = row_begin(a); k < row_begin(a + 1); ++k) {
+          if (pf(k, 0) != 0.0 || pf(k, 1) != 0.0) {
+            fx += pf(k, 0);
+            fy += pf(k, 1);
+          }
+          if (pf(k, 2) != 0.0) m += pf(k, 2);
+        }
+        f(i, 0) = fx;
+        f(i, 1) = fy;
+        if (rot) moment(i) = m;
+      });
+}
+
 // Adds the contact forces of the candidate pairs [0, count) to nodes.f and nodes.moment.
-// joins: pair_topology of these pairs, or empty.
+// joins: pair_topology of these pairs, or empty. gather: build_contact_gather of these pairs
+// over `discs` (a fixed summation order), or not built: atomic adds (any pair list).
 inline ContactSums contact_forces(const Nodes& nodes, const Topology& topo,
                                   const View<const int*>& pair_i, const View<const int*>& pair_j,
                                   long count, const ContactLaw& law, double dt,
-                                  const View<const int* [3]>& joins = {}) {
-  ContactForceKernel kernel{pair_i,
-                            pair_j,
-                            joins,
-                            nodes.x,
-                            nodes.v,
-                            nodes.mass,
-                            nodes.radius,
-                            nodes.inertia,
-                            nodes.spin,
-                            nodes.contact_stiffness,
-                            nodes.fixed,
-                            nodes.particle,
-                            nodes.f,
-                            nodes.moment,
-                            topo,
-                            law,
-                            dt};
+                                  const View<const int* [3]>& joins = {},
+                                  const ContactGather& gather = {},
+                                  const View<const int*>& discs = {}) {
+  ContactForceKernel kernel{pair_i,       pair_j,
+                            joins,        nodes.x,
+                            nodes.v,      nodes.mass,
+                            nodes.radius, nodes.inertia,
+                            nodes.spin,   nodes.contact_stiffness,
+                            nodes.fixed,  nodes.particle,
+                            nodes.f,      nodes.moment,
+                            topo,         law,
+                            dt,           gather.built() ? gather.pair_force : View<double* [4]>()};
   ContactSums sums;
   Kokkos::parallel_reduce("fracta::contact_forces", Kokkos::RangePolicy<ExecSpace>(0, count),
                           kernel, sums);
+  if (gather.built()) gather_contact_forces(nodes, discs, gather);
   return sums;
 }
 

@@ -5,8 +5,11 @@
 // tests do not depend on the solver's integrator.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
+#include <vector>
 
 #include "host/contact.hpp"
 #include "kernels/contact_test_util.hpp"
@@ -158,6 +161,75 @@ double kinetic(const State& s) {
 // ---------------------------------------------------------------------------------------------
 // Single contact: values and signs by hand. Disc 0 at the origin, disc 1 at (d, 0): n = e_x,
 // t = e_y. Disc 1 moves with (-0.1, 0.2) m/s, disc 0 spins at 10 rad/s.
+// The solver's contact forces go through the gather (ContactGather: stored pair forces, each
+// disc adding its pairs in a fixed order), not atomic adds. 3000 discs of a dense random packing
+// (many overlaps), random velocities and spins, a tenth of them walls and a third without
+// rotation, and random forces already in the accumulators: the gather equals the atomic adds
+// bitwise on one thread (the same order of the same sums) and to round-off on more, and ten
+// evaluations on any number of threads are bitwise the same.
+TEST(ContactForces, GatherEqualsTheAtomicAddsAndRepeatsBitwise) {
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const int n = 3000;
+  const double r0 = 1e-3, side = std::sqrt(n * M_PI * r0 * r0 / 0.9);
+  test::HostDiscs h;
+  for (int i = 0; i < n; ++i) {
+    h.add(side * u(rng), side * u(rng), r0 * (0.7 + 0.6 * u(rng)), 1e-3 * (0.5 + u(rng)),
+          1e6 * (0.5 + u(rng)), u(rng) - 0.5, u(rng) - 0.5, 200.0 * (u(rng) - 0.5),
+          u(rng) < 0.1 ? kWall : 0);
+    h.particle.back() = u(rng) < 0.33 ? 0 : 1;
+  }
+  const Nodes nodes = test::make_nodes(h);
+  const Topology topo = test::make_topology(n);
+  ContactSystem contact(iota_nodes(n), ContactParams{}, 0.2 * r0);
+  contact.update(nodes);
+  ASSERT_GT(contact.candidate_count(), 2 * n);
+  // create_mirror, not _view: a host mirror view of a host view is the view itself.
+  auto f0 = Kokkos::create_mirror(nodes.f);
+  auto m0 = Kokkos::create_mirror(nodes.moment);
+  for (int i = 0; i < n; ++i) {
+    f0(i, 0) = u(rng) - 0.5;
+    f0(i, 1) = u(rng) - 0.5;
+    m0(i) = 1e-3 * (u(rng) - 0.5);
+  }
+  const double dt = 1e-7;
+  const auto evaluate = [&](bool gather) {
+    Kokkos::deep_copy(nodes.f, f0);
+    Kokkos::deep_copy(nodes.moment, m0);
+    ContactSums sums;
+    if (gather) {
+      const ContactStepResult r = contact.compute_forces(nodes, topo, dt);
+      sums.v[2] = static_cast<double>(r.touching);
+    } else {
+      sums = contact_forces(nodes, topo, contact.pair_i(), contact.pair_j(),
+                            contact.candidate_count(), contact.law(), dt);
+    }
+    auto f = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.f);
+    auto m = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.moment);
+    std::vector<double> out;
+    for (int i = 0; i < n; ++i) out.insert(out.end(), {f(i, 0), f(i, 1), m(i)});
+    out.push_back(sums.v[2]);
+    return out;
+  };
+  const std::vector<double> atomic = evaluate(false), gathered = evaluate(true);
+  EXPECT_GT(atomic.back(), n / 2);  // touching pairs: not vacuous
+  EXPECT_EQ(gathered.back(), atomic.back());
+  double scale = 0.0, diff = 0.0;
+  int changed = 0;
+  for (size_t k = 0; k + 1 < atomic.size(); ++k) {
+    scale = std::max(scale, std::fabs(atomic[k]));
+    diff = std::max(diff, std::fabs(gathered[k] - atomic[k]));
+    const double before = k % 3 == 2 ? m0(k / 3) : f0(k / 3, k % 3);
+    changed += atomic[k] != before;
+  }
+  EXPECT_GT(changed, n / 2);  // the contacts did change the accumulators
+  if (ExecSpace().concurrency() == 1)
+    EXPECT_EQ(gathered, atomic);
+  else
+    EXPECT_LE(diff, 1e-13 * scale);
+  for (int repeat = 0; repeat < 10; ++repeat) EXPECT_EQ(evaluate(true), gathered);
+}
+
 TEST(ContactForces, SingleContactValuesAndSigns) {
   const double r = 1e-3, m = 0.01, k = 2e6, zeta = 0.2, mu = 0.3, dt = 1e-7;
   const double x1 = 2 * r - 2e-6;
