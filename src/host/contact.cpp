@@ -160,8 +160,8 @@ ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, const Topolo
     joins_built_ = true;
     joins_topology_ = topo.node_bond.data();
   }
-  const ContactSums s = contact_forces(nodes, topo, pair_i_, pair_j_, pair_count_, law_, dt,
-                                       pair_joins_, gather_, discs_);
+  const ContactSums s =
+      contact_forces(nodes, topo, pair_i_, pair_j_, pair_count_, law_, dt, pair_joins_, gather_);
   Kokkos::Profiling::popRegion();
   ContactStepResult r;
   r.elastic_energy = s.v[0];

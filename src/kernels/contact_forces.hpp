@@ -192,6 +192,7 @@ struct ContactForceKernel {
 // its pairs as i (its row): the gather adds the column, then the row, each in pair order, onto
 // the accumulator: the order and so the sums of the atomic adds on one thread.
 struct ContactGather {
+  View<const int*> discs;        // the contact discs the list was built over (node ids)
   View<int*> row_begin;          // disc a's pairs as i: [row_begin(a), row_begin(a + 1))
   View<int*> col_offset;         // disc b's pairs as j: col_pairs[col_offset(b), col_offset(b+1))
   View<int*> col_cursor;         // work space of the fill
@@ -200,27 +201,14 @@ struct ContactGather {
   bool built() const { return pair_force.extent(0) > 0; }
 };
 
-// First index of [0, count) whose value is >= key, in the non-decreasing list.
-KOKKOS_INLINE_FUNCTION int lower_bound_(const View<const int*>& list, int count, int key) {
-  int lo = 0, hi = count;
-  while (lo < hi) {
-    const int mid = (lo + hi) / 2;
-    if (list(mid) < key)
-      lo = mid + 1;
-    else
-      hi = mid;
-  }
-  return lo;
-}
-
 // The rows and columns of the candidate list [0, count) over the contact discs (node ids,
 // increasing; pair_i non-decreasing, i < j): views sized by the caller (row_begin and
 // col_offset n + 1, col_cursor n, col_pairs and pair_force >= count). The column fill takes
 // slots by atomic counters; sorting each column by pair index makes the result independent of
 // their order.
 inline void build_contact_gather(const View<const int*>& discs, const View<const int*>& pair_i,
-                                 const View<const int*>& pair_j, long count,
-                                 const ContactGather& g) {
+                                 const View<const int*>& pair_j, long count, ContactGather& g) {
+  g.discs = discs;
   const int n = static_cast<int>(discs.extent(0));
   const int pairs = static_cast<int>(count);
   const auto row_begin = g.row_begin, col_offset = g.col_offset, cursor = g.col_cursor;
@@ -228,13 +216,13 @@ inline void build_contact_gather(const View<const int*>& discs, const View<const
   Kokkos::parallel_for(
       "fracta::contact_gather_rows", Kokkos::RangePolicy<ExecSpace>(0, n + 1),
       KOKKOS_LAMBDA(const int a) {
-        row_begin(a) = a < n ? lower_bound_(pair_i, pairs, discs(a)) : pairs;
+        row_begin(a) = a < n ? count_below(pair_i, pairs, discs(a)) : pairs;
       });
   Kokkos::deep_copy(cursor, 0);
   Kokkos::parallel_for(
       "fracta::contact_gather_count", Kokkos::RangePolicy<ExecSpace>(0, pairs),
       KOKKOS_LAMBDA(const int k) {
-        Kokkos::atomic_increment(&cursor(lower_bound_(discs, n, pair_j(k))));
+        Kokkos::atomic_increment(&cursor(count_below(discs, n, pair_j(k))));
       });
   Kokkos::parallel_scan(
       "fracta::contact_gather_scan", Kokkos::RangePolicy<ExecSpace>(0, n + 1),
@@ -247,29 +235,18 @@ inline void build_contact_gather(const View<const int*>& discs, const View<const
   Kokkos::parallel_for(
       "fracta::contact_gather_fill", Kokkos::RangePolicy<ExecSpace>(0, pairs),
       KOKKOS_LAMBDA(const int k) {
-        const int b = lower_bound_(discs, n, pair_j(k));
+        const int b = count_below(discs, n, pair_j(k));
         col_pairs(col_offset(b) + Kokkos::atomic_fetch_add(&cursor(b), 1)) = k;
       });
   Kokkos::parallel_for(
       "fracta::contact_gather_sort", Kokkos::RangePolicy<ExecSpace>(0, n),
-      KOKKOS_LAMBDA(const int b) {
-        const int begin = col_offset(b), end = col_offset(b + 1);
-        for (int q = begin + 1; q < end; ++q) {
-          const int v = col_pairs(q);
-          int m = q - 1;
-          while (m >= begin && col_pairs(m) > v) {
-            col_pairs(m + 1) = col_pairs(m);
-            --m;
-          }
-          col_pairs(m + 1) = v;
-        }
-      });
+      KOKKOS_LAMBDA(const int b) { sort_segment(col_pairs, col_offset(b), col_offset(b + 1)); });
 }
 
 // Each disc adds its pairs' stored forces: the column (as j: minus the force, its own moment)
 // then the row (as i). A pair out of contact stored zeros and adds nothing.
-inline void gather_contact_forces(const Nodes& nodes, const View<const int*>& discs,
-                                  const ContactGather& g) {
+inline void gather_contact_forces(const Nodes& nodes, const ContactGather& g) {
+  const auto discs = g.discs;
   const auto row_begin = g.row_begin, col_offset = g.col_offset, col_pairs = g.col_pairs;
   const auto pf = g.pair_force;
   const auto f = nodes.f;
@@ -282,21 +259,16 @@ inline void gather_contact_forces(const Nodes& nodes, const View<const int*>& di
         const int i = discs(a);
         const bool rot = particle(i) != 0 && inertia(i) > 0.0;  // as the pair kernel's rot_i
         double fx = f(i, 0), fy = f(i, 1), m = rot ? moment(i) : 0.0;
-        for (int q = col_offset(a); q < col_offset(a + 1); ++q) {
-          const int k = col_pairs(q);
+        // Pair k's share: the force times sign (+1 on i, -1 on j) and its moment column.
+        const auto add = [&](const int k, const double sign, const int moment_column) {
           if (pf(k, 0) != 0.0 || pf(k, 1) != 0.0) {
-            fx += -pf(k, 0);
-            fy += -pf(k, 1);
+            fx += sign * pf(k, 0);
+            fy += sign * pf(k, 1);
           }
-          if (pf(k, 3) != 0.0) m += pf(k, 3);
-        }
-        for (int k = row_begin(a); k < row_begin(a + 1); ++k) {
-          if (pf(k, 0) != 0.0 || pf(k, 1) != 0.0) {
-            fx += pf(k, 0);
-            fy += pf(k, 1);
-          }
-          if (pf(k, 2) != 0.0) m += pf(k, 2);
-        }
+          if (pf(k, moment_column) != 0.0) m += pf(k, moment_column);
+        };
+        for (int q = col_offset(a); q < col_offset(a + 1); ++q) add(col_pairs(q), -1.0, 3);
+        for (int k = row_begin(a); k < row_begin(a + 1); ++k) add(k, 1.0, 2);
         f(i, 0) = fx;
         f(i, 1) = fy;
         if (rot) moment(i) = m;
@@ -305,13 +277,12 @@ inline void gather_contact_forces(const Nodes& nodes, const View<const int*>& di
 
 // Adds the contact forces of the candidate pairs [0, count) to nodes.f and nodes.moment.
 // joins: pair_topology of these pairs, or empty. gather: build_contact_gather of these pairs
-// over `discs` (a fixed summation order), or not built: atomic adds (any pair list).
+// (a fixed summation order), or not built: atomic adds (any pair list).
 inline ContactSums contact_forces(const Nodes& nodes, const Topology& topo,
                                   const View<const int*>& pair_i, const View<const int*>& pair_j,
                                   long count, const ContactLaw& law, double dt,
                                   const View<const int* [3]>& joins = {},
-                                  const ContactGather& gather = {},
-                                  const View<const int*>& discs = {}) {
+                                  const ContactGather& gather = {}) {
   ContactForceKernel kernel{pair_i,       pair_j,
                             joins,        nodes.x,
                             nodes.v,      nodes.mass,
@@ -324,7 +295,7 @@ inline ContactSums contact_forces(const Nodes& nodes, const Topology& topo,
   ContactSums sums;
   Kokkos::parallel_reduce("fracta::contact_forces", Kokkos::RangePolicy<ExecSpace>(0, count),
                           kernel, sums);
-  if (gather.built()) gather_contact_forces(nodes, discs, gather);
+  if (gather.built()) gather_contact_forces(nodes, gather);
   return sums;
 }
 

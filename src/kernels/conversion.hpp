@@ -373,16 +373,20 @@ inline double prestress_converted_bonds(const View<int*>& cells, int count,
         for (int a = 0; a < 4; ++a) {
           const int n = el.nodes(e, a);
           if (nodes.particle(n)) continue;
-          int first = e, batch_cells = 0;
+          const int begin = node_element_offset(n), end = node_element_offset(n + 1);
+          int first = e;
+          for (int q = begin; q < end; ++q)
+            if (!el.alive(node_element(q)) && node_element(q) < first) first = node_element(q);
+          if (first != e) continue;  // the lowest-indexed batch cell writes
+          int batch_cells = 0;
           double w_sum = 0.0;
-          for (int q = node_element_offset(n); q < node_element_offset(n + 1); ++q) {
+          for (int q = begin; q < end; ++q) {
             const int c = node_element(q);
             if (el.alive(c)) continue;
-            first = c < first ? c : first;
             w_sum += element_rotation_rate(el, nodes, c, pending_kick_dt);
             ++batch_cells;
           }
-          if (first == e) nodes.spin(n) = w_sum / batch_cells;
+          nodes.spin(n) = w_sum / batch_cells;
         }
       },
       element_energy);

@@ -164,18 +164,7 @@ inline void bin_discs(const Nodes& nodes, const View<const int*>& discs, const C
       });
   Kokkos::parallel_for(
       "fracta::contact_bin_sort", Kokkos::RangePolicy<ExecSpace>(0, n_cells),
-      KOKKOS_LAMBDA(const int c) {
-        const int begin = cell_start(c), end = cell_start(c + 1);
-        for (int k = begin + 1; k < end; ++k) {
-          const int v = cell_discs(k);
-          int m = k - 1;
-          while (m >= begin && cell_discs(m) > v) {
-            cell_discs(m + 1) = cell_discs(m);
-            --m;
-          }
-          cell_discs(m + 1) = v;
-        }
-      });
+      KOKKOS_LAMBDA(const int c) { sort_segment(cell_discs, cell_start(c), cell_start(c + 1)); });
 }
 
 // Binned pair search. Fill = false counts the candidates of each disc into row_offset(a);
@@ -297,18 +286,8 @@ inline void fill_candidates(const Nodes& nodes, const View<const int*>& discs, d
                       cell_discs, skin,    row_offset,   pair_i, pair_j};
   Kokkos::parallel_for("fracta::contact_binned_fill", policy, f);
   Kokkos::parallel_for(
-      "fracta::contact_row_sort", policy, KOKKOS_LAMBDA(const int a) {
-        const int begin = row_offset(a), end = row_offset(a + 1);
-        for (int k = begin + 1; k < end; ++k) {
-          const int v = pair_j(k);
-          int m = k - 1;
-          while (m >= begin && pair_j(m) > v) {
-            pair_j(m + 1) = pair_j(m);
-            --m;
-          }
-          pair_j(m + 1) = v;
-        }
-      });
+      "fracta::contact_row_sort", policy,
+      KOKKOS_LAMBDA(const int a) { sort_segment(pair_j, row_offset(a), row_offset(a + 1)); });
 }
 
 // The discs that can touch now, under surface tracking (ContactSystem::refresh_discs): the

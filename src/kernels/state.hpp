@@ -51,8 +51,10 @@ struct Nodes {
   bool has_particles() const { return particle.extent(0) > 0; }
 };
 
-// Number of entries of the increasing list [0, count) that are < value.
-KOKKOS_INLINE_FUNCTION int count_below(const View<int*>& list, int count, int value) {
+// Number of entries of the non-decreasing list [0, count) that are < value (the first index
+// whose entry is >= value).
+template <class List>
+KOKKOS_INLINE_FUNCTION int count_below(const List& list, int count, int value) {
   int lo = 0, hi = count;
   while (lo < hi) {
     const int mid = (lo + hi) / 2;
@@ -62,6 +64,21 @@ KOKKOS_INLINE_FUNCTION int count_below(const View<int*>& list, int count, int va
       hi = mid;
   }
   return lo;
+}
+
+// Sorts list[begin, end) increasing, in place (insertion sort: the segments are short bins and
+// rows of a few entries, sorted so that no atomic counter decides an order).
+template <class List>
+KOKKOS_INLINE_FUNCTION void sort_segment(const List& list, int begin, int end) {
+  for (int k = begin + 1; k < end; ++k) {
+    const auto v = list(k);
+    int m = k - 1;
+    while (m >= begin && list(m) > v) {
+      list(m + 1) = list(m);
+      --m;
+    }
+    list(m + 1) = v;
+  }
 }
 
 // Merges the disjoint increasing lists a[0, na) and b[0, nb) into out[0, na + nb), increasing:
