@@ -46,6 +46,11 @@ class Simulation {
 
   Model& model() { return model_; }
   const Model& model() const { return model_; }
+  // Every view a step mutates (state_views.hpp), the kick finished: tests compare runs by it.
+  StateViews state() {
+    finish_kick();
+    return state_views();
+  }
 
  private:
   friend struct CheckpointIO;  // src/host/checkpoint.cpp reads and writes the complete state
