@@ -1,5 +1,6 @@
 // CUDA check unit for src/kernels/neighbor_search.hpp: bounds, binning, both pair searches
-// (BinnedPairs and AllPairs, count and fill), the scan, and the Verlet displacement check.
+// (BinnedPairs and AllPairs, count and fill), the scan, the rows of a restored list, and the
+// Verlet displacement check.
 #include "kernels/neighbor_search.hpp"
 
 namespace fracta::cuda_check {
@@ -8,18 +9,20 @@ long neighbor_search_kernels(const Nodes& nodes, const View<const int*>& discs,
                              const View<int*>& cell_start, const View<int*>& cell_cursor,
                              const View<int*>& cell_discs, const View<int*>& row_offset,
                              const View<int*>& pair_i, const View<int*>& pair_j,
-                             const View<double* [2]>& x_build) {
+                             const View<int*>& pair_b, const View<double* [2]>& x_build) {
   const int n_discs = static_cast<int>(discs.extent(0));
   const double skin = 1e-4;
   const CellGrid grid = make_grid(disc_bounds(nodes, discs), skin, 1 << 20);
   bin_discs(nodes, discs, grid, cell_start, cell_cursor, cell_discs);
-  long total = 0;
+  long total = 0, last = 0;
   for (const bool all_pairs : {false, true}) {
     count_candidates(nodes, discs, skin, all_pairs, grid, cell_start, cell_discs, row_offset);
-    total += scan_rows(row_offset, n_discs);
+    last = scan_rows(row_offset, n_discs);
+    total += last;
     fill_candidates(nodes, discs, skin, all_pairs, grid, cell_start, cell_discs, row_offset, pair_i,
-                    pair_j);
+                    pair_j, pair_b);
   }
+  index_candidates(discs, pair_i, pair_j, last, row_offset, pair_b);
   record_positions(nodes, discs, x_build);
   const double d2 = max_displacement_sq(nodes, discs, x_build);
   return total + (d2 > 1.0 ? 1 : 0);

@@ -121,9 +121,11 @@ void ContactSystem::rebuild(const Nodes& nodes) {
                          capacity);
     pair_j_ = View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_pair_j"),
                          capacity);
+    pair_b_ = View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_pair_b"),
+                         capacity);
   }
   fill_candidates(nodes, discs_, skin_, all_pairs_, grid, cell_start_, cell_discs_, row_offset_,
-                  pair_i_, pair_j_);
+                  pair_i_, pair_j_, pair_b_);
   record_positions(nodes, discs_, x_build_);
   pair_count_ = total;
   built_ = true;
@@ -144,8 +146,7 @@ ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, const Topolo
           pair_i_.extent(0));
     pair_topology(topo, pair_i_, pair_j_, pair_count_, pair_joins_);
     const size_t n = discs_.extent(0), pairs = pair_i_.extent(0);
-    if (gather_.row_begin.extent(0) != n + 1) {
-      gather_.row_begin = View<int*>("fracta::contact_row_begin", n + 1);
+    if (gather_.col_offset.extent(0) != n + 1) {
       gather_.col_offset = View<int*>("fracta::contact_col_offset", n + 1);
       gather_.col_cursor = View<int*>("fracta::contact_col_cursor", n);
     }
@@ -156,7 +157,7 @@ ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, const Topolo
           Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_pair_force"),
           std::max<size_t>(pairs, 1));
     }
-    build_contact_gather(discs_, pair_i_, pair_j_, pair_count_, gather_);
+    build_contact_gather(discs_, row_offset_, pair_b_, pair_count_, gather_);
     joins_built_ = true;
     joins_topology_ = topo.node_bond.data();
   }
@@ -204,6 +205,7 @@ void ContactSystem::restore_list_state(const ListState& s) {
   if (static_cast<long>(pair_i_.extent(0)) < count) {
     pair_i_ = View<int*>("fracta::contact_pair_i", count);
     pair_j_ = View<int*>("fracta::contact_pair_j", count);
+    pair_b_ = View<int*>("fracta::contact_pair_b", count);
   }
   using HostInts = Kokkos::View<const int*, HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>;
   const auto range = std::make_pair(0L, count);
@@ -213,6 +215,7 @@ void ContactSystem::restore_list_state(const ListState& s) {
   for (size_t k = 0; k < n; ++k)
     for (int d = 0; d < 2; ++d) xb(k, d) = s.x_build[2 * k + d];
   Kokkos::deep_copy(x_build_, xb);
+  index_candidates(discs_, pair_i_, pair_j_, count, row_offset_, pair_b_);  // for the gather
   pair_count_ = count;
   built_ = s.built;
   joins_built_ = false;

@@ -117,6 +117,7 @@ class ContactSystem {
   View<int*> cell_start_, cell_cursor_, cell_discs_;
   View<int*> row_offset_;
   View<int*> pair_i_, pair_j_;  // capacity >= pair_count_
+  View<int*> pair_b_;           // disc index of each pair_j_ (fill_candidates, index_candidates)
   View<int* [3]> pair_joins_;   // pair_topology of the list, when joins_built_
   ContactGather gather_;        // rows and columns of the list, when joins_built_
   bool joins_built_ = false;

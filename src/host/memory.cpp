@@ -59,10 +59,10 @@ constexpr double kLatticeElementBytes = 88;
 // Cohesive state (damage, onset and final separation) adds 24 B per slot.
 constexpr double kConvertibleCellBytes = 4 * (108 + 24) + 32 + 16 + 232 + 350;
 // Contact discs (every node of a convertible body, the boundary nodes of the others): disc id,
-// position at the last build, binning, candidate pairs; the gather's rows and columns (12 B)
-// and, per candidate pair (about 2 per disc of a lattice: the edge neighbours), its column
-// entry and stored force (36 B).
-constexpr double kDiscBytes = 56 + 12 + 2 * 36;
+// position at the last build, binning, candidate pairs; the gather's columns (8 B; its rows
+// are the list's row offsets) and, per candidate pair (about 2 per disc of a lattice: the edge
+// neighbours), its disc index, column entry and stored force (40 B).
+constexpr double kDiscBytes = 56 + 8 + 2 * 40;
 
 // Indices are 32-bit ints (node ids, element ids, 4 bond slots per cell): keep well below.
 constexpr double kMaxCells = INT_MAX / 8.0;

@@ -193,7 +193,7 @@ struct ContactForceKernel {
 // the accumulator: the order and so the sums of the atomic adds on one thread.
 struct ContactGather {
   View<const int*> discs;        // the contact discs the list was built over (node ids)
-  View<int*> row_begin;          // disc a's pairs as i: [row_begin(a), row_begin(a + 1))
+  View<const int*> row_begin;    // disc a's pairs as i: [row_begin(a), row_begin(a + 1))
   View<int*> col_offset;         // disc b's pairs as j: col_pairs[col_offset(b), col_offset(b+1))
   View<int*> col_cursor;         // work space of the fill
   View<int*> col_pairs;          // pair indices, increasing within a column
@@ -202,28 +202,22 @@ struct ContactGather {
 };
 
 // The rows and columns of the candidate list [0, count) over the contact discs (node ids,
-// increasing; pair_i non-decreasing, i < j): views sized by the caller (row_begin and
-// col_offset n + 1, col_cursor n, col_pairs and pair_force >= count). The column fill takes
-// slots by atomic counters; sorting each column by pair index makes the result independent of
-// their order.
-inline void build_contact_gather(const View<const int*>& discs, const View<const int*>& pair_i,
-                                 const View<const int*>& pair_j, long count, ContactGather& g) {
+// increasing), from what the pre-search keeps with it (neighbor_search.hpp): row_offset, the
+// rows' start (n + 1 entries), becomes row_begin; pair_b, the disc index of each pair's j, gives
+// the columns. Views sized by the caller (col_offset n + 1, col_cursor n, col_pairs and
+// pair_force >= count). The column fill takes slots by atomic counters; sorting each column by
+// pair index makes the result independent of their order.
+inline void build_contact_gather(const View<const int*>& discs, const View<const int*>& row_offset,
+                                 const View<const int*>& pair_b, long count, ContactGather& g) {
   g.discs = discs;
+  g.row_begin = row_offset;
   const int n = static_cast<int>(discs.extent(0));
   const int pairs = static_cast<int>(count);
-  const auto row_begin = g.row_begin, col_offset = g.col_offset, cursor = g.col_cursor;
-  const auto col_pairs = g.col_pairs;
-  Kokkos::parallel_for(
-      "fracta::contact_gather_rows", Kokkos::RangePolicy<ExecSpace>(0, n + 1),
-      KOKKOS_LAMBDA(const int a) {
-        row_begin(a) = a < n ? count_below(pair_i, pairs, discs(a)) : pairs;
-      });
+  const auto col_offset = g.col_offset, cursor = g.col_cursor, col_pairs = g.col_pairs;
   Kokkos::deep_copy(cursor, 0);
   Kokkos::parallel_for(
       "fracta::contact_gather_count", Kokkos::RangePolicy<ExecSpace>(0, pairs),
-      KOKKOS_LAMBDA(const int k) {
-        Kokkos::atomic_increment(&cursor(count_below(discs, n, pair_j(k))));
-      });
+      KOKKOS_LAMBDA(const int k) { Kokkos::atomic_increment(&cursor(pair_b(k))); });
   Kokkos::parallel_scan(
       "fracta::contact_gather_scan", Kokkos::RangePolicy<ExecSpace>(0, n + 1),
       KOKKOS_LAMBDA(const int b, int& sum, const bool final) {
@@ -235,7 +229,7 @@ inline void build_contact_gather(const View<const int*>& discs, const View<const
   Kokkos::parallel_for(
       "fracta::contact_gather_fill", Kokkos::RangePolicy<ExecSpace>(0, pairs),
       KOKKOS_LAMBDA(const int k) {
-        const int b = count_below(discs, n, pair_j(k));
+        const int b = pair_b(k);
         col_pairs(col_offset(b) + Kokkos::atomic_fetch_add(&cursor(b), 1)) = k;
       });
   Kokkos::parallel_for(
@@ -247,7 +241,8 @@ inline void build_contact_gather(const View<const int*>& discs, const View<const
 // then the row (as i). A pair out of contact stored zeros and adds nothing.
 inline void gather_contact_forces(const Nodes& nodes, const ContactGather& g) {
   const auto discs = g.discs;
-  const auto row_begin = g.row_begin, col_offset = g.col_offset, col_pairs = g.col_pairs;
+  const auto row_begin = g.row_begin;
+  const auto col_offset = g.col_offset, col_pairs = g.col_pairs;
   const auto pf = g.pair_force;
   const auto f = nodes.f;
   const auto moment = nodes.moment;

@@ -9,6 +9,9 @@
 //    the time of the build. Pairs are stored row by row: the row of disc a (its pairs with
 //    larger node ids) is [row_offset(a), row_offset(a + 1)), sorted by j. The list is therefore
 //    a deterministic function of the positions (no atomic counter decides the order).
+//  - With each pair the list keeps pair_b, the disc index of j (discs(pair_b(k)) == pair_j(k)),
+//    and row_offset is the rows' start: what the contact gather's columns and rows are built
+//    from (build_contact_gather) without searching the lists.
 //  - Building is two-pass: count per disc -> exclusive parallel_scan -> fill.
 //  - Verlet criterion: the list stays valid while no disc moved more than skin / 2 since the
 //    build (two discs then approached by at most skin, so every pair now closer than r_i + r_j
@@ -168,7 +171,8 @@ inline void bin_discs(const Nodes& nodes, const View<const int*>& discs, const C
 }
 
 // Binned pair search. Fill = false counts the candidates of each disc into row_offset(a);
-// Fill = true writes them at row_offset(a) (already scanned) into pair_i / pair_j.
+// Fill = true writes them at row_offset(a) (already scanned) into pair_i / pair_b, in bin
+// order (fill_candidates then sorts each row and writes pair_j).
 template <bool Fill>
 struct BinnedPairs {
   View<const int*> discs;
@@ -178,7 +182,7 @@ struct BinnedPairs {
   View<const int*> cell_start, cell_discs;
   double skin;
   View<int*> row_offset;
-  View<int*> pair_i, pair_j;
+  View<int*> pair_i, pair_b;
 
   KOKKOS_INLINE_FUNCTION void operator()(const int a) const {
     const int i = discs(a);
@@ -197,7 +201,7 @@ struct BinnedPairs {
           if (dx * dx + dy * dy < reach * reach) {
             if (Fill) {
               pair_i(out) = i;
-              pair_j(out) = j;
+              pair_b(out) = b;
             }
             ++out;
           }
@@ -217,7 +221,7 @@ struct AllPairs {
   double skin;
   int n_discs;
   View<int*> row_offset;
-  View<int*> pair_i, pair_j;
+  View<int*> pair_i, pair_j, pair_b;
 
   KOKKOS_INLINE_FUNCTION void operator()(const int a) const {
     const int i = discs(a);
@@ -231,6 +235,7 @@ struct AllPairs {
         if (Fill) {
           pair_i(out) = i;
           pair_j(out) = j;
+          pair_b(out) = b;
         }
         ++out;
       }
@@ -261,7 +266,7 @@ inline void count_candidates(const Nodes& nodes, const View<const int*>& discs, 
   const int n_discs = static_cast<int>(discs.extent(0));
   const auto policy = Kokkos::RangePolicy<ExecSpace>(0, n_discs);
   if (all_pairs) {
-    AllPairs<false> f{discs, nodes.x, nodes.radius, skin, n_discs, row_offset, {}, {}};
+    AllPairs<false> f{discs, nodes.x, nodes.radius, skin, n_discs, row_offset, {}, {}, {}};
     Kokkos::parallel_for("fracta::contact_all_pairs_count", policy, f);
   } else {
     BinnedPairs<false> f{discs,      nodes.x, nodes.radius, grid, cell_start,
@@ -270,24 +275,46 @@ inline void count_candidates(const Nodes& nodes, const View<const int*>& discs, 
   }
 }
 
-// Writes the candidates at the scanned row offsets, then sorts every row by j.
+// Writes the candidates at the scanned row offsets, every row sorted by j (its disc indices
+// pair_b sorted: the discs are in increasing node id).
 inline void fill_candidates(const Nodes& nodes, const View<const int*>& discs, double skin,
                             bool all_pairs, const CellGrid& grid, const View<int*>& cell_start,
                             const View<int*>& cell_discs, const View<int*>& row_offset,
-                            const View<int*>& pair_i, const View<int*>& pair_j) {
+                            const View<int*>& pair_i, const View<int*>& pair_j,
+                            const View<int*>& pair_b) {
   const int n_discs = static_cast<int>(discs.extent(0));
   const auto policy = Kokkos::RangePolicy<ExecSpace>(0, n_discs);
   if (all_pairs) {
-    AllPairs<true> f{discs, nodes.x, nodes.radius, skin, n_discs, row_offset, pair_i, pair_j};
+    AllPairs<true> f{discs,      nodes.x, nodes.radius, skin,  n_discs,
+                     row_offset, pair_i,  pair_j,       pair_b};
     Kokkos::parallel_for("fracta::contact_all_pairs_fill", policy, f);
     return;  // rows are already in increasing j
   }
   BinnedPairs<true> f{discs,      nodes.x, nodes.radius, grid,   cell_start,
-                      cell_discs, skin,    row_offset,   pair_i, pair_j};
+                      cell_discs, skin,    row_offset,   pair_i, pair_b};
   Kokkos::parallel_for("fracta::contact_binned_fill", policy, f);
   Kokkos::parallel_for(
-      "fracta::contact_row_sort", policy,
-      KOKKOS_LAMBDA(const int a) { sort_segment(pair_j, row_offset(a), row_offset(a + 1)); });
+      "fracta::contact_row_sort", policy, KOKKOS_LAMBDA(const int a) {
+        sort_segment(pair_b, row_offset(a), row_offset(a + 1));
+        for (int k = row_offset(a); k < row_offset(a + 1); ++k) pair_j(k) = discs(pair_b(k));
+      });
+}
+
+// The rows and disc indices of a candidate list that did not come from fill_candidates (a
+// checkpoint's, ContactSystem::restore_list_state): row_offset (n_discs + 1) and pair_b [0, count)
+// as fill_candidates leaves them, found by binary search in the sorted lists.
+inline void index_candidates(const View<const int*>& discs, const View<const int*>& pair_i,
+                             const View<const int*>& pair_j, long count,
+                             const View<int*>& row_offset, const View<int*>& pair_b) {
+  const int n = static_cast<int>(discs.extent(0)), pairs = static_cast<int>(count);
+  Kokkos::parallel_for(
+      "fracta::contact_index_rows", Kokkos::RangePolicy<ExecSpace>(0, n + 1),
+      KOKKOS_LAMBDA(const int a) {
+        row_offset(a) = a < n ? count_below(pair_i, pairs, discs(a)) : pairs;
+      });
+  Kokkos::parallel_for(
+      "fracta::contact_index_pairs", Kokkos::RangePolicy<ExecSpace>(0, pairs),
+      KOKKOS_LAMBDA(const int k) { pair_b(k) = count_below(discs, n, pair_j(k)); });
 }
 
 // The discs that can touch now, under surface tracking (ContactSystem::refresh_discs): the
