@@ -159,6 +159,10 @@ int main(int argc, char** argv) {
       return sim.model().contacts ? sim.model().contacts->rebuild_count() : 0L;
     };
     const long rebuilds0 = rebuilds();
+    const auto insertions = [&] {
+      return sim.model().contacts ? sim.model().contacts->insertion_count() : 0L;
+    };
+    const long insertions0 = insertions();
     bench::RegionTimer::reset();
     bench::KernelTimer::reset();
     const double eps = 1e-12;
@@ -215,6 +219,7 @@ int main(int argc, char** argv) {
        << ", \"steps\": " << steps << ", \"dt_s\": " << num(sim.dt())
        << ", \"conversions_in_window\": " << sim.conversions() - conversions0
        << ", \"contact_rebuilds_in_window\": " << rebuilds() - rebuilds0
+       << ", \"contact_insertions_in_window\": " << insertions() - insertions0
        << ", \"contact_discs\": " << (sim.model().contacts ? sim.model().contacts->disc_count() : 0)
        << ", \"failed\": " << (sim.failed() ? "true" : "false")
        << ", \"setup_s\": " << num(setup_seconds) << ", \"run_s\": " << num(run_seconds)

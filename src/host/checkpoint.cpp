@@ -313,6 +313,7 @@ struct CheckpointIO {
       throw std::runtime_error("bond or particle list counts out of range");
     if (s.model_.contacts) {
       ContactSystem& contacts = *s.model_.contacts;
+      contacts.invalidate();  // the list comes from the checkpoint: nothing to insert into
       contacts.refresh_discs(s.model_.nodes);  // the discs of the restored particles
       H5Handle g(H5Gopen2(file, "contact", H5P_DEFAULT), H5Gclose, "group /contact is missing");
       ContactSystem::ListState cs;

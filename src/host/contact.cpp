@@ -67,6 +67,17 @@ void ContactSystem::track_surface(std::vector<int> surface_nodes, const Nodes& n
   refresh_discs(nodes);
 }
 
+namespace {
+
+// v holds at least n entries (reallocated with headroom, contents dropped, if not).
+template <class V>
+void reserve(V& v, size_t n, const char* label) {
+  if (v.extent(0) < n || v.data() == nullptr)
+    v = V(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string(label)), n + n / 4 + 16);
+}
+
+}  // namespace
+
 bool ContactSystem::refresh_discs(const Nodes& nodes) {
   if (!tracking_) return false;
   // The discs are a function of the particles, and the particles only grow between restores
@@ -76,10 +87,118 @@ bool ContactSystem::refresh_discs(const Nodes& nodes) {
   refreshed_particles_ = particle_count;
   const int surface_count = surface_without_particles(surface_, nodes, surface_only_);
   const int count = surface_count + particle_count;
-  if (discs_.extent(0) == static_cast<size_t>(count)) return false;
+  const int old_count = disc_count();
+  if (old_count == count) return false;
+  // Few new discs (a conversion's): insert them. Many (a restore, a large batch): rebuild.
+  const bool insert =
+      insertion_ && built_ && !all_pairs_ && count > old_count && 8 * (count - old_count) <= count;
+  if (insert) {
+    Insertion& w = insert_;
+    const auto discs = std::make_pair(0, old_count), rows = std::make_pair(0, old_count + 1);
+    const auto pairs = std::make_pair(0L, pair_count_);
+    reserve(w.old_discs, old_count, "fracta::contact_insert_old_discs");
+    reserve(w.old_x_build, old_count, "fracta::contact_insert_old_x_build");
+    reserve(w.old_row_offset, old_count + 1, "fracta::contact_insert_old_rows");
+    reserve(w.old_pair_b, pair_count_, "fracta::contact_insert_old_pair_b");
+    Kokkos::deep_copy(Kokkos::subview(w.old_discs, discs), discs_);
+    Kokkos::deep_copy(Kokkos::subview(w.old_x_build, discs, Kokkos::ALL), x_build_);
+    Kokkos::deep_copy(Kokkos::subview(w.old_row_offset, rows), row_offset_);
+    Kokkos::deep_copy(Kokkos::subview(w.old_pair_b, pairs), Kokkos::subview(pair_b_, pairs));
+    if (joins_built_) {  // the old pairs keep what joins them
+      reserve(w.old_joins, pair_count_, "fracta::contact_insert_old_joins");
+      Kokkos::deep_copy(Kokkos::subview(w.old_joins, pairs, Kokkos::ALL),
+                        Kokkos::subview(pair_joins_, pairs, Kokkos::ALL));
+    }
+  }
   resize_discs(static_cast<size_t>(count));
   merge_disjoint_sorted("fracta::contact_disc_merge", surface_only_, surface_count,
                         nodes.particle_list, particle_count, discs_);
+  if (insert && insert_new_discs(nodes, old_count)) built_ = true;
+  return true;
+}
+
+bool ContactSystem::insert_new_discs(const Nodes& nodes, int old_count) {
+  Kokkos::Profiling::pushRegion("fracta::contact_search");
+  Insertion& w = insert_;
+  const int n = disc_count();
+  reserve(w.position, n, "fracta::contact_insert_position");
+  reserve(w.old_index, n, "fracta::contact_insert_old_index");
+  reserve(w.new_of_old, old_count, "fracta::contact_insert_new_of_old");
+  reserve(w.new_discs, n, "fracta::contact_insert_new_discs");
+  const auto all = std::make_pair(0, n);
+  const auto old_discs = Kokkos::subview(w.old_discs, std::make_pair(0, old_count));
+  const auto old_x_build =
+      Kokkos::subview(w.old_x_build, std::make_pair(0, old_count), Kokkos::ALL);
+  const auto position = Kokkos::subview(w.position, all, Kokkos::ALL);
+  const auto old_index = Kokkos::subview(w.old_index, all);
+  if (w.node_slot.extent(0) < static_cast<size_t>(nodes.count))
+    w.node_slot = View<int*>("fracta::contact_insert_node_slot", nodes.count);  // zeroed
+  const int found = map_inserted_discs(nodes, discs_, old_discs, old_x_build, w.node_slot,
+                                       old_index, w.new_of_old, position);
+  if (found != old_count) {
+    Kokkos::Profiling::popRegion();
+    return false;
+  }
+  const int added = list_inserted_discs(old_index, w.new_discs);
+  DiscBounds box = inserted_disc_bounds(nodes, discs_, w.new_discs, added, position);
+  box.r_max = std::max(box.r_max, build_r_max_);  // radii only shrink: the old discs' bound
+  build_r_max_ = box.r_max;
+  const CellGrid grid = make_grid(box, skin_, std::max(4L * added, 64L));
+  reserve(w.cell_start, grid.cell_count() + 1, "fracta::contact_insert_cell_start");
+  reserve(w.cell_cursor, grid.cell_count(), "fracta::contact_insert_cell_cursor");
+  reserve(w.cell_items, added, "fracta::contact_insert_cell_items");
+  bin_points(added, ListedPositions{w.new_discs, position}, grid, w.cell_start, w.cell_cursor,
+             w.cell_items);
+  // The inserted pairs, per row: count, scan, fill, sort.
+  reserve(w.extra_offset, n + 1, "fracta::contact_insert_extra_offset");
+  reserve(w.extra_cursor, n, "fracta::contact_insert_extra_cursor");
+  const auto extra_offset = Kokkos::subview(w.extra_offset, std::make_pair(0, n + 1));
+  const auto extra_cursor = Kokkos::subview(w.extra_cursor, all);
+  const auto policy = Kokkos::RangePolicy<ExecSpace>(0, n);
+  Kokkos::deep_copy(extra_offset, 0);
+  Kokkos::parallel_for("fracta::contact_insert_count", policy,
+                       InsertedPairs<false>{discs_,
+                                            old_index,
+                                            w.new_discs,
+                                            position,
+                                            nodes.radius,
+                                            grid,
+                                            w.cell_start,
+                                            w.cell_items,
+                                            skin_,
+                                            extra_offset,
+                                            {},
+                                            {}});
+  const long extra_total = scan_rows(extra_offset, n);
+  reserve(w.extra, extra_total, "fracta::contact_insert_extra");
+  Kokkos::deep_copy(extra_cursor, 0);
+  Kokkos::parallel_for(
+      "fracta::contact_insert_fill", policy,
+      InsertedPairs<true>{discs_, old_index, w.new_discs, position, nodes.radius, grid,
+                          w.cell_start, w.cell_items, skin_, extra_cursor, extra_offset, w.extra});
+  // The merged rows: old row + inserted entries (sorted), scanned, then merged.
+  count_merged_rows(old_index, w.old_row_offset, extra_offset, w.extra, row_offset_);
+  const long total = scan_rows(row_offset_, n);
+  if (total > 2147483647L) throw std::runtime_error("contact: more than 2^31 candidate pairs");
+  if (static_cast<long>(pair_i_.extent(0)) < total) {
+    reserve(pair_i_, total, "fracta::contact_pair_i");
+    reserve(pair_j_, total, "fracta::contact_pair_j");
+    reserve(pair_b_, total, "fracta::contact_pair_b");
+  }
+  if (joins_built_ && static_cast<long>(pair_joins_.extent(0)) < total) {
+    reserve(pair_joins_, total, "fracta::contact_pair_joins");
+  }
+  Kokkos::parallel_for(
+      "fracta::contact_insert_merge", policy,
+      MergeInsertedRows{discs_, old_index, w.old_row_offset, w.old_pair_b, w.new_of_old,
+                        extra_offset, w.extra, row_offset_, pair_i_, pair_j_, pair_b_, w.old_joins,
+                        joins_built_ ? pair_joins_ : View<int* [3]>(), kJoinsPending});
+  Kokkos::deep_copy(x_build_, position);
+  pair_count_ = total;
+  joins_pending_ = joins_built_;
+  gather_built_ = false;
+  ++insertions_;
+  Kokkos::Profiling::popRegion();
   return true;
 }
 
@@ -104,7 +223,9 @@ void ContactSystem::rebuild(const Nodes& nodes) {
   if (!all_pairs_ && n > 0) {
     // At most 4 cells per disc, but 65536 in any case: the discs of a scene are often a hollow
     // frame (the boundary nodes) whose box would otherwise get cells of several radii.
-    grid = make_grid(disc_bounds(nodes, discs_), skin_, std::max(4L * n, 65536L));
+    const DiscBounds box = disc_bounds(nodes, discs_);
+    build_r_max_ = box.r_max;
+    grid = make_grid(box, skin_, std::max(4L * n, 65536L));
     const long cells = grid.cell_count();
     if (static_cast<long>(cell_cursor_.extent(0)) < cells) {
       cell_start_ = View<int*>("fracta::contact_cell_start", cells + 1);
@@ -129,7 +250,7 @@ void ContactSystem::rebuild(const Nodes& nodes) {
   record_positions(nodes, discs_, x_build_);
   pair_count_ = total;
   built_ = true;
-  joins_built_ = false;
+  joins_built_ = gather_built_ = false;
   ++rebuilds_;
   Kokkos::Profiling::popRegion();
 }
@@ -145,6 +266,15 @@ ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, const Topolo
           Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_pair_joins"),
           pair_i_.extent(0));
     pair_topology(topo, pair_i_, pair_j_, pair_count_, pair_joins_);
+    joins_built_ = true;
+    joins_topology_ = topo.node_bond.data();
+    joins_pending_ = gather_built_ = false;
+  } else if (joins_pending_) {  // an insertion: the inserted pairs alone
+    pending_pair_topology(topo, pair_i_, pair_j_, pair_count_, pair_joins_);
+    joins_pending_ = false;
+  }
+  // The gather's columns, once per list.
+  if (!gather_built_) {
     const size_t n = discs_.extent(0), pairs = pair_i_.extent(0);
     if (gather_.col_offset.extent(0) != n + 1) {
       gather_.col_offset = View<int*>("fracta::contact_col_offset", n + 1);
@@ -158,8 +288,7 @@ ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, const Topolo
           std::max<size_t>(pairs, 1));
     }
     build_contact_gather(discs_, row_offset_, pair_b_, pair_count_, gather_);
-    joins_built_ = true;
-    joins_topology_ = topo.node_bond.data();
+    gather_built_ = true;
   }
   const ContactSums s =
       contact_forces(nodes, topo, pair_i_, pair_j_, pair_count_, law_, dt, pair_joins_, gather_);
@@ -218,7 +347,7 @@ void ContactSystem::restore_list_state(const ListState& s) {
   index_candidates(discs_, pair_i_, pair_j_, count, row_offset_, pair_b_);  // for the gather
   pair_count_ = count;
   built_ = s.built;
-  joins_built_ = false;
+  joins_built_ = gather_built_ = false;
   rebuilds_ = s.rebuilds;
 }
 

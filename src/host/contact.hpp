@@ -68,10 +68,16 @@ class ContactSystem {
   // particle.
   void track_surface(std::vector<int> surface_nodes, const Nodes& nodes);
   // Under surface tracking: re-derives the disc list from the surface and nodes.particle_list
-  // (increasing; a merge of the two lists, no sweep over the nodes); if it changed, forces a
-  // rebuild and returns true.
+  // (increasing; a merge of the two lists, no sweep over the nodes); if it changed, returns true
+  // and either inserts the new discs into the built list (a superset of the old discs, few new
+  // ones, insertion on: neighbor_search.hpp, "Inserting new discs") or forces a rebuild.
   // Without tracking: returns false.
   bool refresh_discs(const Nodes& nodes);
+  // Inserting new discs instead of rebuilding (default on). Either way the candidate list holds
+  // every pair that can touch before the next rebuild, in the build's order, so the forces are
+  // the same to the bit; off: the benchmark baseline and the test's reference.
+  void set_insertion(bool on) { insertion_ = on; }
+  long insertion_count() const { return insertions_; }
   bool tracks_surface() const { return tracking_; }
   // Forces a rebuild at the next update.
   void invalidate() { built_ = false; }
@@ -99,6 +105,10 @@ class ContactSystem {
 
  private:
   void rebuild(const Nodes& nodes);
+  // The discs_ just re-derived hold the old_count old ones (saved in insert_) and some new
+  // ones: adds the new discs' pairs to the list. Returns false (rebuild instead) if the old
+  // discs are not all in the new list.
+  bool insert_new_discs(const Nodes& nodes, int old_count);
   // Sizes the per-disc views for n discs, reusing their buffers while they hold n; forces a
   // rebuild.
   void resize_discs(size_t n);
@@ -119,11 +129,26 @@ class ContactSystem {
   View<int*> pair_i_, pair_j_;  // capacity >= pair_count_
   View<int*> pair_b_;           // disc index of each pair_j_ (fill_candidates, index_candidates)
   View<int* [3]> pair_joins_;   // pair_topology of the list, when joins_built_
-  ContactGather gather_;        // rows and columns of the list, when joins_built_
+  ContactGather gather_;        // rows and columns of the list, when gather_built_
   bool joins_built_ = false;
+  bool joins_pending_ = false;  // inserted pairs marked kJoinsPending in pair_joins_
+  bool gather_built_ = false;
   const void* joins_topology_ = nullptr;  // the Topology (its node -> bond list) they came from
   long pair_count_ = 0;
   long rebuilds_ = 0;
+  bool insertion_ = true;
+  long insertions_ = 0;
+  double build_r_max_ = 0;  // largest disc radius at the last build or insertion (m)
+  // Insertion work space: the list before the refresh, and the inserted pairs (capacity reused).
+  struct Insertion {
+    View<int*> old_discs, old_row_offset, old_pair_b;
+    View<int* [3]> old_joins;
+    View<double*[2]> old_x_build, position;
+    View<int*> node_slot;  // per node, zero between insertions
+    View<int*> old_index, new_of_old, new_discs;
+    View<int*> cell_start, cell_cursor, cell_items;
+    View<int*> extra_offset, extra_cursor, extra;
+  } insert_;
   bool built_ = false;
   bool all_pairs_ = false;
   double skin_ = 0;

@@ -61,8 +61,10 @@ constexpr double kConvertibleCellBytes = 4 * (108 + 24) + 32 + 16 + 232 + 350;
 // Contact discs (every node of a convertible body, the boundary nodes of the others): disc id,
 // position at the last build, binning, candidate pairs; the gather's columns (8 B; its rows
 // are the list's row offsets) and, per candidate pair (about 2 per disc of a lattice: the edge
-// neighbours), its disc index, column entry and stored force (40 B).
-constexpr double kDiscBytes = 56 + 8 + 2 * 40;
+// neighbours), its disc index, column entry and stored force (40 B); the work space of an
+// insertion (ContactSystem::Insertion: the old list's copy, positions, maps, 64 B per disc and
+// 16 B per pair).
+constexpr double kDiscBytes = 56 + 8 + 64 + 2 * (40 + 16);
 
 // Indices are 32-bit ints (node ids, element ids, 4 bond slots per cell): keep well below.
 constexpr double kMaxCells = INT_MAX / 8.0;

@@ -102,6 +102,22 @@ inline void pair_topology(const Topology& topo, const View<const int*>& pair_i,
                        PairTopology{topo, pair_i, pair_j, joins});
 }
 
+// The slot entry of a pair inserted into a list whose other pairs keep their joins
+// (MergeInsertedRows): looked up by pending_pair_topology before the next force evaluation.
+constexpr int kJoinsPending = -3;
+
+// pair_topology of the pairs marked kJoinsPending alone.
+inline void pending_pair_topology(const Topology& topo, const View<const int*>& pair_i,
+                                  const View<const int*>& pair_j, long count,
+                                  const View<int* [3]>& joins) {
+  const PairTopology lookup{topo, pair_i, pair_j, joins};
+  Kokkos::parallel_for(
+      "fracta::contact_pending_topology", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(const int p) {
+        if (joins(p, 0) == kJoinsPending) lookup(p);
+      });
+}
+
 struct ContactForceKernel {
   View<const int*> pair_i, pair_j;
   View<const int* [3]> joins;  // pair_topology; empty: ask Topology::joined

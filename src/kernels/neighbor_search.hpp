@@ -132,42 +132,65 @@ inline CellGrid make_grid(const DiscBounds& b, double skin, long max_cells) {
   return g;
 }
 
-// Counting sort of the discs into cells. cell_start has cell_count() + 1 entries, cell_cursor
-// cell_count(), cell_discs one per disc. Within a cell the discs are sorted by index (a
-// per-cell insertion sort after the atomic fill), so the result is deterministic.
-inline void bin_discs(const Nodes& nodes, const View<const int*>& discs, const CellGrid& grid,
-                      const View<int*>& cell_start, const View<int*>& cell_cursor,
-                      const View<int*>& cell_discs) {
-  const int n_discs = static_cast<int>(discs.extent(0));
+// Positions of list entries for the binning: disc a of a disc list at its node's position
+// (DiscPositions), or entry q of a list of disc indices at a position kept per disc index
+// (ListedPositions: the build positions of the inserted discs).
+struct DiscPositions {
+  View<const int*> discs;
+  View<const double* [2]> x;
+  KOKKOS_INLINE_FUNCTION double operator()(const int a, const int d) const {
+    return x(discs(a), d);
+  }
+};
+struct ListedPositions {
+  View<const int*> items;
+  View<const double* [2]> position;
+  KOKKOS_INLINE_FUNCTION double operator()(const int q, const int d) const {
+    return position(items(q), d);
+  }
+};
+
+// Counting sort of `count` points (positions pos(k, d)) into cells. cell_start has
+// cell_count() + 1 entries, cell_cursor cell_count(), cell_items one per point (its k). Within
+// a cell the points are sorted by k (a per-cell insertion sort after the atomic fill), so the
+// result is deterministic.
+template <class Positions>
+void bin_points(int count, const Positions& pos, const CellGrid& grid, const View<int*>& cell_start,
+                const View<int*>& cell_cursor, const View<int*>& cell_items) {
   const int n_cells = static_cast<int>(grid.cell_count());
-  const auto x = nodes.x;
-  Kokkos::deep_copy(cell_start, 0);
+  Kokkos::deep_copy(Kokkos::subview(cell_start, std::make_pair(0, n_cells + 1)), 0);
   Kokkos::parallel_for(
-      "fracta::contact_bin_count", Kokkos::RangePolicy<ExecSpace>(0, n_discs),
-      KOKKOS_LAMBDA(const int a) {
-        const int n = discs(a);
-        Kokkos::atomic_increment(&cell_start(grid.cell_of(x(n, 0), x(n, 1))));
+      "fracta::contact_bin_count", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(const int k) {
+        Kokkos::atomic_increment(&cell_start(grid.cell_of(pos(k, 0), pos(k, 1))));
       });
   Kokkos::parallel_scan(
       "fracta::contact_bin_scan", Kokkos::RangePolicy<ExecSpace>(0, n_cells + 1),
       KOKKOS_LAMBDA(const int c, int& sum, const bool final) {
-        const int count = c < n_cells ? cell_start(c) : 0;
+        const int in_cell = c < n_cells ? cell_start(c) : 0;
         if (final) {
           cell_start(c) = sum;
           if (c < n_cells) cell_cursor(c) = sum;
         }
-        sum += count;
+        sum += in_cell;
       });
   Kokkos::parallel_for(
-      "fracta::contact_bin_fill", Kokkos::RangePolicy<ExecSpace>(0, n_discs),
-      KOKKOS_LAMBDA(const int a) {
-        const int n = discs(a);
-        const int c = grid.cell_of(x(n, 0), x(n, 1));
-        cell_discs(Kokkos::atomic_fetch_add(&cell_cursor(c), 1)) = a;
+      "fracta::contact_bin_fill", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(const int k) {
+        const int c = grid.cell_of(pos(k, 0), pos(k, 1));
+        cell_items(Kokkos::atomic_fetch_add(&cell_cursor(c), 1)) = k;
       });
   Kokkos::parallel_for(
       "fracta::contact_bin_sort", Kokkos::RangePolicy<ExecSpace>(0, n_cells),
-      KOKKOS_LAMBDA(const int c) { sort_segment(cell_discs, cell_start(c), cell_start(c + 1)); });
+      KOKKOS_LAMBDA(const int c) { sort_segment(cell_items, cell_start(c), cell_start(c + 1)); });
+}
+
+// The discs at their nodes' positions, binned: cell_discs holds disc indices.
+inline void bin_discs(const Nodes& nodes, const View<const int*>& discs, const CellGrid& grid,
+                      const View<int*>& cell_start, const View<int*>& cell_cursor,
+                      const View<int*>& cell_discs) {
+  bin_points(static_cast<int>(discs.extent(0)), DiscPositions{discs, nodes.x}, grid, cell_start,
+             cell_cursor, cell_discs);
 }
 
 // Binned pair search. Fill = false counts the candidates of each disc into row_offset(a);
@@ -369,5 +392,182 @@ inline double max_displacement_sq(const Nodes& nodes, const View<const int*>& di
       Kokkos::Max<double>(m));
   return m;
 }
+
+// ---- Inserting new discs into a built list (ContactSystem::refresh_discs) -----------------
+// A conversion adds discs (the new particles inside the mesh) to a list that is still valid for
+// the old ones. Instead of a rebuild, the new discs are searched against every disc with the
+// discs at their build positions p (the old discs' x_build, the new discs' positions now, which
+// become their x_build): a pair is a candidate when |p_i - p_j| < r_i + r_j + skin, as in a
+// build. The Verlet criterion then holds as after a build: while no disc moved more than
+// skin / 2 from p, two discs approached by at most skin. Radii only shrink at conversions, so
+// the old pairs stay a superset too. The merged list keeps the build's order (rows by
+// increasing i, each sorted by j), so the contact gather sums the touching pairs in the same
+// order as after a rebuild: the forces are the same to the bit (pairs out of contact add
+// nothing), and only which untouching pairs are listed differs.
+
+// Of the discs (the new list), which were in the old list: old_index(a) (-1 for a new disc),
+// new_of_old(o) the inverse; p(a) the build position. node_slot: one entry per node, all zero
+// (left so): the old discs mark their nodes in it (a binary search per disc cost twice the
+// three passes). Returns how many old discs were found (all of them when the new list is a
+// superset).
+inline int map_inserted_discs(const Nodes& nodes, const View<const int*>& discs,
+                              const View<const int*>& old_discs,
+                              const View<const double* [2]>& old_x_build,
+                              const View<int*>& node_slot, const View<int*>& old_index,
+                              const View<int*>& new_of_old, const View<double* [2]>& p) {
+  const auto old_policy = Kokkos::RangePolicy<ExecSpace>(0, old_discs.extent(0));
+  Kokkos::parallel_for(
+      "fracta::contact_insert_mark", old_policy,
+      KOKKOS_LAMBDA(const int o) { node_slot(old_discs(o)) = o + 1; });
+  const auto x = nodes.x;
+  int found = 0;
+  Kokkos::parallel_reduce(
+      "fracta::contact_insert_map", Kokkos::RangePolicy<ExecSpace>(0, discs.extent(0)),
+      KOKKOS_LAMBDA(const int a, int& acc) {
+        const int n = discs(a);
+        const int o = node_slot(n) - 1;
+        old_index(a) = o;
+        for (int d = 0; d < 2; ++d) p(a, d) = o >= 0 ? old_x_build(o, d) : x(n, d);
+        if (o >= 0) {
+          new_of_old(o) = a;
+          ++acc;
+        }
+      },
+      found);
+  Kokkos::parallel_for(
+      "fracta::contact_insert_unmark", old_policy,
+      KOKKOS_LAMBDA(const int o) { node_slot(old_discs(o)) = 0; });
+  return found;
+}
+
+// The new discs' indices (old_index < 0), increasing, into new_discs; returns their count.
+inline int list_inserted_discs(const View<const int*>& old_index, const View<int*>& new_discs) {
+  int count = 0;
+  Kokkos::parallel_scan(
+      "fracta::contact_insert_list", Kokkos::RangePolicy<ExecSpace>(0, old_index.extent(0)),
+      KOKKOS_LAMBDA(const int a, int& partial, const bool final) {
+        if (old_index(a) >= 0) return;
+        if (final) new_discs(partial) = a;
+        ++partial;
+      },
+      count);
+  return count;
+}
+
+// Bounding box of the new discs at p, and the largest radius of theirs.
+inline DiscBounds inserted_disc_bounds(const Nodes& nodes, const View<const int*>& discs,
+                                       const View<const int*>& new_discs, int count,
+                                       const View<const double* [2]>& p) {
+  DiscBounds b;
+  const auto radius = nodes.radius;
+  Kokkos::parallel_reduce(
+      "fracta::contact_insert_bounds", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(const int q, DiscBounds& acc) {
+        const int a = new_discs(q);
+        acc.merge(p(a, 0), p(a, 1), radius(discs(a)));
+      },
+      b);
+  return b;
+}
+
+// The pairs with a new disc, found from every disc c: the new discs binned near it (a grid
+// over the new discs, cell >= the largest reach) within reach at p. Each pair goes once into
+// the row of its smaller disc index: c's if c < a; a's if a < c and c is old (when c is new,
+// a's own pass lists it). Fill = false counts per row into extra_count (scan_rows then makes
+// them offsets); Fill = true writes the partner's disc index at extra_offset(row) + a slot
+// taken from extra_count (zeroed), in any order (sorted afterwards).
+template <bool Fill>
+struct InsertedPairs {
+  View<const int*> discs, old_index, new_discs;
+  View<const double* [2]> p;
+  View<const double*> radius;
+  CellGrid grid;
+  View<const int*> cell_start, cell_items;
+  double skin;
+  View<int*> extra_count;
+  View<const int*> extra_offset;
+  View<int*> extra;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int c) const {
+    const double xc = p(c, 0), yc = p(c, 1);
+    // Farther than a cell outside the new discs' box: none within reach (reach <= cell).
+    const double cell = grid.cell;
+    if (xc < grid.origin[0] - cell || yc < grid.origin[1] - cell ||
+        xc > grid.origin[0] + (grid.nx + 1) * cell || yc > grid.origin[1] + (grid.ny + 1) * cell)
+      return;
+    const double rc = radius(discs(c));
+    const bool c_new = old_index(c) < 0;
+    const int cx = grid.coord(xc, 0), cy = grid.coord(yc, 1);
+    for (int gy = max_(cy - 1, 0); gy <= min_(cy + 1, grid.ny - 1); ++gy)
+      for (int gx = max_(cx - 1, 0); gx <= min_(cx + 1, grid.nx - 1); ++gx) {
+        const int g = gx + grid.nx * gy;
+        for (int k = cell_start(g); k < cell_start(g + 1); ++k) {
+          const int a = new_discs(cell_items(k));
+          if (a == c || (a < c && c_new)) continue;
+          const double dx = p(a, 0) - xc, dy = p(a, 1) - yc;
+          const double reach = rc + radius(discs(a)) + skin;
+          if (!(dx * dx + dy * dy < reach * reach)) continue;
+          const int row = a < c ? a : c, partner = a < c ? c : a;
+          if (Fill)
+            extra(extra_offset(row) + Kokkos::atomic_fetch_add(&extra_count(row), 1)) = partner;
+          else
+            Kokkos::atomic_increment(&extra_count(row));
+        }
+      }
+  }
+};
+
+// Sorts each disc's inserted entries (extra[extra_offset(a), extra_offset(a + 1)), filled in
+// any order) and writes its merged row length into rows(a): old row + inserted entries.
+inline void count_merged_rows(const View<const int*>& old_index,
+                              const View<const int*>& old_row_offset,
+                              const View<const int*>& extra_offset, const View<int*>& extra,
+                              const View<int*>& rows) {
+  Kokkos::parallel_for(
+      "fracta::contact_insert_rows", Kokkos::RangePolicy<ExecSpace>(0, old_index.extent(0)),
+      KOKKOS_LAMBDA(const int a) {
+        sort_segment(extra, extra_offset(a), extra_offset(a + 1));
+        const int o = old_index(a);
+        rows(a) = (o >= 0 ? old_row_offset(o + 1) - old_row_offset(o) : 0) + extra_offset(a + 1) -
+                  extra_offset(a);
+      });
+}
+
+// Row a of the merged list: its old row (old_index(a) >= 0; the partners' disc indices mapped
+// by new_of_old) and its inserted entries, both increasing, merged at row_offset(a). No pair is
+// in both (an inserted pair has a new disc). With joins (not empty): an old pair keeps what
+// joins it (old_joins: the bond and element lists never change), an inserted one gets
+// `pending` to be looked up (contact_forces.hpp, pending_pair_topology).
+struct MergeInsertedRows {
+  View<const int*> discs, old_index, old_row_offset, old_pair_b, new_of_old;
+  View<const int*> extra_offset, extra, row_offset;
+  View<int*> pair_i, pair_j, pair_b;
+  View<const int* [3]> old_joins;
+  View<int* [3]> joins;
+  int pending;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int a) const {
+    const int o = old_index(a);
+    int k = o >= 0 ? old_row_offset(o) : 0;
+    const int k_end = o >= 0 ? old_row_offset(o + 1) : 0;
+    int q = extra_offset(a);
+    const int q_end = extra_offset(a + 1), i = discs(a);
+    for (int out = row_offset(a); k < k_end || q < q_end; ++out) {
+      const int from_old = k < k_end ? new_of_old(old_pair_b(k)) : 2147483647;
+      const int from_new = q < q_end ? extra(q) : 2147483647;
+      const int b = from_old < from_new ? from_old : from_new;
+      if (joins.extent(0) > 0)
+        for (int c = 0; c < 3; ++c)
+          joins(out, c) = from_old < from_new ? old_joins(k, c) : (c == 0 ? pending : -1);
+      if (from_old < from_new)
+        ++k;
+      else
+        ++q;
+      pair_i(out) = i;
+      pair_j(out) = discs(b);
+      pair_b(out) = b;
+    }
+  }
+};
 
 }  // namespace fracta
