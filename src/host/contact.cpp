@@ -80,6 +80,7 @@ void reserve(V& v, size_t n, const char* label) {
 
 bool ContactSystem::refresh_discs(const Nodes& nodes) {
   if (!tracking_) return false;
+  ProfilingRegion region("fracta::contact_search");
   // The discs are a function of the particles, and the particles only grow between restores
   // (a restore returns to a subset): the same count is the same set.
   const int particle_count = nodes.particle_list.extent(0) > 0 ? nodes.particle_count : 0;
@@ -118,7 +119,6 @@ bool ContactSystem::refresh_discs(const Nodes& nodes) {
 }
 
 bool ContactSystem::insert_new_discs(const Nodes& nodes, int old_count) {
-  Kokkos::Profiling::pushRegion("fracta::contact_search");
   Insertion& w = insert_;
   const int n = disc_count();
   reserve(w.position, n, "fracta::contact_insert_position");
@@ -135,10 +135,7 @@ bool ContactSystem::insert_new_discs(const Nodes& nodes, int old_count) {
     w.node_slot = View<int*>("fracta::contact_insert_node_slot", nodes.count);  // zeroed
   const int found = map_inserted_discs(nodes, discs_, old_discs, old_x_build, w.node_slot,
                                        old_index, w.new_of_old, position);
-  if (found != old_count) {
-    Kokkos::Profiling::popRegion();
-    return false;
-  }
+  if (found != old_count) return false;
   const int added = list_inserted_discs(old_index, w.new_discs);
   DiscBounds box = inserted_disc_bounds(nodes, discs_, w.new_discs, added, position);
   box.r_max = std::max(box.r_max, build_r_max_);  // radii only shrink: the old discs' bound
@@ -198,7 +195,6 @@ bool ContactSystem::insert_new_discs(const Nodes& nodes, int old_count) {
   joins_pending_ = joins_built_;
   gather_built_ = false;
   ++insertions_;
-  Kokkos::Profiling::popRegion();
   return true;
 }
 

@@ -200,13 +200,20 @@ double Simulation::evaluate_forces(double dt) {
 }
 
 void Simulation::convert() {
+  // The new particles become contact discs after the conversion phase: inserting them into the
+  // candidate list (or rebuilding it at the next update) is the contact search's phase.
+  if (convert_cells() && model_.contacts) model_.contacts->refresh_discs(model_.nodes);
+}
+
+bool Simulation::convert_cells() {
   int pending = 0;
   {
     ProfilingRegion region("fracta::conversion");
     Kokkos::deep_copy(pending, conversion_pending_);
     conversions_this_step_ = 0;
   }
-  if (!pending) return;  // no element met its criterion in the force evaluations since last time
+  if (!pending)
+    return false;  // no element met its criterion in the force evaluations since last time
   ProfilingRegion region("fracta::conversion");
   Model& m = model_;
   Kokkos::deep_copy(conversion_pending_, 0);
@@ -228,7 +235,7 @@ void Simulation::convert() {
                           m.active_scratch, conversion_flag_, conversion_position_);
   }
   conversions_this_step_ = n;
-  if (n == 0) return;
+  if (n == 0) return false;
   // The conversion works on the full step. A deferred second half kick stays pending (the whole
   // node sweep that finishing it costs is most of a conversion step's integration): the
   // conversion changes no force, mass or moment it uses (new discs carry no moment yet), and the
@@ -259,7 +266,6 @@ void Simulation::convert() {
     m.nodes.particle_count = build_particle_list(m.nodes);
   }
   locate_scatter_chunks();
-  if (m.contacts) m.contacts->refresh_discs(m.nodes);  // the new particles become discs
   Kokkos::deep_copy(
       Kokkos::subview(m.converted, std::make_pair(m.converted_count, m.converted_count + n)),
       Kokkos::subview(m.new_cells, std::make_pair(0, n)));
@@ -274,6 +280,7 @@ void Simulation::convert() {
   bond_dt_bound_ = bond_stable_dt(m.nodes, m.bonds, m.topology, 6, stable_dt_);
   dt_bound_ = std::min(dt_bound_, bond_dt_bound_);
   dt_ = next_dt();
+  return true;
 }
 
 double Simulation::next_dt() const {

@@ -61,6 +61,8 @@ class Simulation {
   double evaluate_forces(double dt);
   // Converts the adaptive elements that reached their conversion criterion (DESIGN.md 1.3).
   void convert();
+  // The conversion phase of convert(); returns whether cells converted.
+  bool convert_cells();
   // After the active or bond list changed (conversion, restore): the force scatter's chunks
   // are re-located in them (kernels/scatter.hpp).
   void locate_scatter_chunks();
