@@ -237,17 +237,17 @@ double run_kick(const char* name, const Kick& kick) {
 // lanes = false: node by node (tests).
 inline double kick_kick_drift(const Nodes& nodes, double dt_last, double dt, bool lanes = true) {
   return run_kick("fracta::kick_kick_drift",
-                  KickKickDrift{nodes, dt_last, dt, nodes.has_particles(), lanes});
+                  KickKickDrift{nodes, dt_last, dt, nodes.has_discs_now(), lanes});
 }
 
 // First half kick and drift. Returns this half's external work (J).
 inline double kick_drift(const Nodes& nodes, double dt, bool lanes = true) {
-  return run_kick("fracta::kick_drift", HalfKick<true>{nodes, dt, nodes.has_particles(), lanes});
+  return run_kick("fracta::kick_drift", HalfKick<true>{nodes, dt, nodes.has_discs_now(), lanes});
 }
 
 // Second half kick. Returns this half's external work (J).
 inline double kick(const Nodes& nodes, double dt, bool lanes = true) {
-  return run_kick("fracta::kick", HalfKick<false>{nodes, dt, nodes.has_particles(), lanes});
+  return run_kick("fracta::kick", HalfKick<false>{nodes, dt, nodes.has_discs_now(), lanes});
 }
 
 }  // namespace fracta

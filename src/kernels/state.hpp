@@ -49,6 +49,13 @@ struct Nodes {
   // cache clears it. Empty view: no cache is kept.
   View<int*> bound_stale;
   bool has_particles() const { return particle.extent(0) > 0; }
+  // Some node is a disc now (the particle views allocated and, where the list is kept, not
+  // empty). Without one no moment is ever set (contacts and bonds give moments to discs
+  // alone), so the kicks skip the rotations: an adaptive body before its first conversion
+  // kicks as pure FE does.
+  bool has_discs_now() const {
+    return has_particles() && (particle_list.extent(0) == 0 || particle_count > 0);
+  }
 };
 
 // Number of entries of the non-decreasing list [0, count) that are < value (the first index
