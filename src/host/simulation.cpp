@@ -157,6 +157,7 @@ double Simulation::evaluate_forces(double dt) {
                                 conversion_pending_, conversion_candidates_)
             : compute_fe_forces(m.nodes, m.elements, m.materials, p);
     bound = fe.dt_min;
+    if (fe.flagged > 0.0) conversion_flagged_ = true;
     element_plastic_work_ += fe.plastic;
     hourglass_work_ += fe.hourglass;
     viscous_work_ += fe.viscous;
@@ -206,6 +207,13 @@ void Simulation::convert() {
 }
 
 bool Simulation::convert_cells() {
+  // No element flagged since the last look (the FE reduction says so): not even the counter's
+  // copy to the host (item 5: an adaptive run in which nothing converts costs what pure FE does).
+  if (!conversion_flagged_) {
+    conversions_this_step_ = 0;
+    return false;
+  }
+  conversion_flagged_ = false;
   int pending = 0;
   {
     ProfilingRegion region("fracta::conversion");

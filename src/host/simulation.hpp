@@ -90,6 +90,10 @@ class Simulation {
   View<int> conversion_pending_{"fracta::conversion_pending"};
   View<int*> conversion_candidates_{"fracta::conversion_candidates", ListWorkspace::kCapacity};
   View<int*> conversion_flag_, conversion_position_;  // compact_converted's work space
+  // An FE evaluation (evaluate_forces, the only writer of conversion_pending_) flagged elements
+  // since convert_cells last read the counter. May stay true after a restore zeroes the counter:
+  // reading a zero counter is only slower.
+  bool conversion_flagged_ = false;
 
   struct Snapshot {
     StateViews views;

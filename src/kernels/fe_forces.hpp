@@ -102,6 +102,7 @@ KOKKOS_INLINE_FUNCTION T qp_gradients(const T x[4], const T y[4], int g, T bx[4]
 struct FeStepSums {
   double dt_min = 1e300;
   double plastic = 0.0, hourglass = 0.0, viscous = 0.0;
+  double flagged = 0.0;  // elements flagged for conversion (so the host reads no counter if 0)
 };
 
 // Kokkos reducer of FeStepSums: min of dt, sums of the rest (a reducer, since Kokkos 3.4
@@ -117,6 +118,7 @@ struct FeStepReducer {
     dest.plastic += src.plastic;
     dest.hourglass += src.hourglass;
     dest.viscous += src.viscous;
+    dest.flagged += src.flagged;
   }
   KOKKOS_INLINE_FUNCTION void join(volatile value_type& dest,
                                    const volatile value_type& src) const {
@@ -124,6 +126,7 @@ struct FeStepReducer {
     dest.plastic += src.plastic;
     dest.hourglass += src.hourglass;
     dest.viscous += src.viscous;
+    dest.flagged += src.flagged;
   }
   KOKKOS_INLINE_FUNCTION void init(value_type& v) const { v = FeStepSums(); }
   KOKKOS_INLINE_FUNCTION value_type& reference() const { return value; }
@@ -450,6 +453,7 @@ struct FeForces {
       acc.viscous += get_lane(viscous, l);
       if (get_lane(convert, l) && criterion.adaptive(e[l])) {
         // Counts the flags; the first conversion_candidates.extent(0) keep their active index.
+        acc.flagged += 1.0;
         const int slot = Kokkos::atomic_fetch_add(&conversion_pending(), 1);
         if (slot >= 0 && slot < static_cast<int>(conversion_candidates.extent(0)))
           conversion_candidates(slot) = first + l;
