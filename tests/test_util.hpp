@@ -1,8 +1,11 @@
 // Helpers shared by the tests: scenes built in code (no case file needed).
 #pragma once
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -233,6 +236,22 @@ inline double run_to_end(Simulation& sim, int every = 1) {
     if (sim.steps() % every == 0) worst = std::max(worst, sim.history().energy.error);
   }
   return worst;
+}
+
+// Every view a step mutates (Simulation::state, state_views.hpp) equal in two runs, byte by
+// byte; returns how many views were compared.
+inline int expect_same_state(Simulation& first, Simulation& second) {
+  StateViews a = first.state(), b = second.state();
+  int views = 0;
+  for_each_state_view(a, b, [&views](const char* name, const auto& va, const auto& vb) {
+    const auto ha = Kokkos::create_mirror_view_and_copy(HostSpace(), va);
+    const auto hb = Kokkos::create_mirror_view_and_copy(HostSpace(), vb);
+    ASSERT_EQ(ha.span(), hb.span()) << name;
+    using Value = typename std::decay_t<decltype(ha)>::value_type;
+    EXPECT_EQ(std::memcmp(ha.data(), hb.data(), ha.span() * sizeof(Value)), 0) << name;
+    ++views;
+  });
+  return views;
 }
 
 }  // namespace fracta::test

@@ -6,6 +6,17 @@
 
 namespace fracta {
 
+namespace {
+
+// v holds at least n entries (reallocated with headroom, contents dropped, if not).
+template <class V>
+void reserve(V& v, size_t n, const char* label) {
+  if (v.extent(0) < n || v.data() == nullptr)
+    v = V(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string(label)), n + n / 4 + 16);
+}
+
+}  // namespace
+
 ContactSystem::ContactSystem(std::vector<int> disc_nodes, const ContactParams& params, double skin)
     : skin_(skin) {
   if (!(skin >= 0.0)) throw std::invalid_argument("contact skin must be >= 0");
@@ -30,16 +41,10 @@ void ContactSystem::set_disc_nodes(std::vector<int> disc_nodes) {
 }
 
 void ContactSystem::resize_discs(size_t n) {
-  if (disc_buffer_.extent(0) < n || disc_buffer_.data() == nullptr) {
-    const size_t capacity = n + n / 4 + 16;  // headroom: a conversion adds a few discs
-    const auto uninitialized = [](const std::string& label) {
-      return Kokkos::view_alloc(Kokkos::WithoutInitializing, label);
-    };
-    disc_buffer_ = View<int*>(uninitialized("fracta::contact_discs"), capacity);
-    x_build_buffer_ = View<double* [2]>(uninitialized("fracta::contact_x_build"), capacity);
-    cell_discs_buffer_ = View<int*>(uninitialized("fracta::contact_cell_discs"), capacity);
-    row_offset_buffer_ = View<int*>(uninitialized("fracta::contact_row_offset"), capacity + 1);
-  }
+  reserve(disc_buffer_, n, "fracta::contact_discs");  // headroom: a conversion adds a few
+  reserve(x_build_buffer_, n, "fracta::contact_x_build");
+  reserve(cell_discs_buffer_, n, "fracta::contact_cell_discs");
+  reserve(row_offset_buffer_, n + 1, "fracta::contact_row_offset");
   const auto first = std::make_pair(size_t{0}, n);
   discs_ = Kokkos::subview(disc_buffer_, first);
   x_build_ = Kokkos::subview(x_build_buffer_, first, Kokkos::ALL);
@@ -67,16 +72,12 @@ void ContactSystem::track_surface(std::vector<int> surface_nodes, const Nodes& n
   refresh_discs(nodes);
 }
 
-namespace {
-
-// v holds at least n entries (reallocated with headroom, contents dropped, if not).
-template <class V>
-void reserve(V& v, size_t n, const char* label) {
-  if (v.extent(0) < n || v.data() == nullptr)
-    v = V(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string(label)), n + n / 4 + 16);
+void ContactSystem::reserve_pairs(long count) {
+  const size_t n = static_cast<size_t>(count);
+  reserve(pair_i_, n, "fracta::contact_pair_i");
+  reserve(pair_j_, n, "fracta::contact_pair_j");
+  reserve(pair_b_, n, "fracta::contact_pair_b");
 }
-
-}  // namespace
 
 bool ContactSystem::refresh_discs(const Nodes& nodes) {
   if (!tracking_) return false;
@@ -96,20 +97,16 @@ bool ContactSystem::refresh_discs(const Nodes& nodes) {
   if (insert) {
     Insertion& w = insert_;
     const auto discs = std::make_pair(0, old_count), rows = std::make_pair(0, old_count + 1);
-    const auto pairs = std::make_pair(0L, pair_count_);
     reserve(w.old_discs, old_count, "fracta::contact_insert_old_discs");
     reserve(w.old_x_build, old_count, "fracta::contact_insert_old_x_build");
     reserve(w.old_row_offset, old_count + 1, "fracta::contact_insert_old_rows");
-    reserve(w.old_pair_b, pair_count_, "fracta::contact_insert_old_pair_b");
     Kokkos::deep_copy(Kokkos::subview(w.old_discs, discs), discs_);
     Kokkos::deep_copy(Kokkos::subview(w.old_x_build, discs, Kokkos::ALL), x_build_);
     Kokkos::deep_copy(Kokkos::subview(w.old_row_offset, rows), row_offset_);
-    Kokkos::deep_copy(Kokkos::subview(w.old_pair_b, pairs), Kokkos::subview(pair_b_, pairs));
-    if (joins_built_) {  // the old pairs keep what joins them
-      reserve(w.old_joins, pair_count_, "fracta::contact_insert_old_joins");
-      Kokkos::deep_copy(Kokkos::subview(w.old_joins, pairs, Kokkos::ALL),
-                        Kokkos::subview(pair_joins_, pairs, Kokkos::ALL));
-    }
+    // The per-pair arrays the merge reads are swapped out, not copied: it writes new ones (and
+    // if the insertion falls back, the rebuild rewrites them).
+    std::swap(pair_b_, w.old_pair_b);
+    if (joins_built_) std::swap(pair_joins_, w.old_joins);  // the old pairs keep their joins
   }
   resize_discs(static_cast<size_t>(count));
   merge_disjoint_sorted("fracta::contact_disc_merge", surface_only_, surface_count,
@@ -177,14 +174,8 @@ bool ContactSystem::insert_new_discs(const Nodes& nodes, int old_count) {
   count_merged_rows(old_index, w.old_row_offset, extra_offset, w.extra, row_offset_);
   const long total = scan_rows(row_offset_, n);
   if (total > 2147483647L) throw std::runtime_error("contact: more than 2^31 candidate pairs");
-  if (static_cast<long>(pair_i_.extent(0)) < total) {
-    reserve(pair_i_, total, "fracta::contact_pair_i");
-    reserve(pair_j_, total, "fracta::contact_pair_j");
-    reserve(pair_b_, total, "fracta::contact_pair_b");
-  }
-  if (joins_built_ && static_cast<long>(pair_joins_.extent(0)) < total) {
-    reserve(pair_joins_, total, "fracta::contact_pair_joins");
-  }
+  reserve_pairs(total);
+  if (joins_built_) reserve(pair_joins_, total, "fracta::contact_pair_joins");
   Kokkos::parallel_for(
       "fracta::contact_insert_merge", policy,
       MergeInsertedRows{discs_, old_index, w.old_row_offset, w.old_pair_b, w.new_of_old,
@@ -232,15 +223,7 @@ void ContactSystem::rebuild(const Nodes& nodes) {
   count_candidates(nodes, discs_, skin_, all_pairs_, grid, cell_start_, cell_discs_, row_offset_);
   const long total = scan_rows(row_offset_, n);
   if (total > 2147483647L) throw std::runtime_error("contact: more than 2^31 candidate pairs");
-  if (static_cast<long>(pair_i_.extent(0)) < total) {
-    const long capacity = total + total / 4 + 16;  // headroom: fewer reallocations
-    pair_i_ = View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_pair_i"),
-                         capacity);
-    pair_j_ = View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_pair_j"),
-                         capacity);
-    pair_b_ = View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_pair_b"),
-                         capacity);
-  }
+  reserve_pairs(total);
   fill_candidates(nodes, discs_, skin_, all_pairs_, grid, cell_start_, cell_discs_, row_offset_,
                   pair_i_, pair_j_, pair_b_);
   record_positions(nodes, discs_, x_build_);
@@ -257,10 +240,7 @@ ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, const Topolo
   Kokkos::Profiling::pushRegion("fracta::contact_forces");
   // What joins each pair, once per list: the force kernel then reads only states.
   if (!joins_built_ || joins_topology_ != topo.node_bond.data()) {
-    if (static_cast<long>(pair_joins_.extent(0)) < pair_count_)
-      pair_joins_ = View<int* [3]>(
-          Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_pair_joins"),
-          pair_i_.extent(0));
+    reserve(pair_joins_, pair_count_, "fracta::contact_pair_joins");
     pair_topology(topo, pair_i_, pair_j_, pair_count_, pair_joins_);
     joins_built_ = true;
     joins_topology_ = topo.node_bond.data();
@@ -271,18 +251,12 @@ ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, const Topolo
   }
   // The gather's columns, once per list.
   if (!gather_built_) {
-    const size_t n = discs_.extent(0), pairs = pair_i_.extent(0);
-    if (gather_.col_offset.extent(0) != n + 1) {
-      gather_.col_offset = View<int*>("fracta::contact_col_offset", n + 1);
-      gather_.col_cursor = View<int*>("fracta::contact_col_cursor", n);
-    }
-    if (gather_.col_pairs.extent(0) < pairs) {
-      gather_.col_pairs = View<int*>(
-          Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_col_pairs"), pairs);
-      gather_.pair_force = View<double* [4]>(
-          Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_pair_force"),
-          std::max<size_t>(pairs, 1));
-    }
+    // Capacity kept across lists: an insertion changes the disc count at every conversion.
+    const size_t n = discs_.extent(0), pairs = std::max(pair_count_, 1L);
+    reserve(gather_.col_offset, n + 1, "fracta::contact_col_offset");
+    reserve(gather_.col_cursor, n, "fracta::contact_col_cursor");
+    reserve(gather_.col_pairs, pairs, "fracta::contact_col_pairs");
+    reserve(gather_.pair_force, pairs, "fracta::contact_pair_force");
     build_contact_gather(discs_, row_offset_, pair_b_, pair_count_, gather_);
     gather_built_ = true;
   }
@@ -327,11 +301,7 @@ void ContactSystem::restore_list_state(const ListState& s) {
   if (s.pair_i.size() != s.pair_j.size() || s.x_build.size() != 2 * n)
     throw std::invalid_argument("contact list state: sizes do not match the contact discs");
   const long count = static_cast<long>(s.pair_i.size());
-  if (static_cast<long>(pair_i_.extent(0)) < count) {
-    pair_i_ = View<int*>("fracta::contact_pair_i", count);
-    pair_j_ = View<int*>("fracta::contact_pair_j", count);
-    pair_b_ = View<int*>("fracta::contact_pair_b", count);
-  }
+  reserve_pairs(count);
   using HostInts = Kokkos::View<const int*, HostSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>>;
   const auto range = std::make_pair(0L, count);
   Kokkos::deep_copy(Kokkos::subview(pair_i_, range), HostInts(s.pair_i.data(), count));

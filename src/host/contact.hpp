@@ -105,6 +105,8 @@ class ContactSystem {
 
  private:
   void rebuild(const Nodes& nodes);
+  // pair_i_, pair_j_ and pair_b_ hold at least count pairs (contents dropped if they grow).
+  void reserve_pairs(long count);
   // The discs_ just re-derived hold the old_count old ones (saved in insert_) and some new
   // ones: adds the new discs' pairs to the list. Returns false (rebuild instead) if the old
   // discs are not all in the new list.

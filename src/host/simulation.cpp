@@ -209,16 +209,13 @@ void Simulation::convert() {
 bool Simulation::convert_cells() {
   // No element flagged since the last look (the FE reduction says so): not even the counter's
   // copy to the host (item 5: an adaptive run in which nothing converts costs what pure FE does).
-  if (!conversion_flagged_) {
-    conversions_this_step_ = 0;
-    return false;
-  }
+  conversions_this_step_ = 0;
+  if (!conversion_flagged_) return false;
   conversion_flagged_ = false;
   int pending = 0;
   {
     ProfilingRegion region("fracta::conversion");
     Kokkos::deep_copy(pending, conversion_pending_);
-    conversions_this_step_ = 0;
   }
   if (!pending)
     return false;  // no element met its criterion in the force evaluations since last time

@@ -220,9 +220,9 @@ struct ContactGather {
 // The rows and columns of the candidate list [0, count) over the contact discs (node ids,
 // increasing), from what the pre-search keeps with it (neighbor_search.hpp): row_offset, the
 // rows' start (n + 1 entries), becomes row_begin; pair_b, the disc index of each pair's j, gives
-// the columns. Views sized by the caller (col_offset n + 1, col_cursor n, col_pairs and
-// pair_force >= count). The column fill takes slots by atomic counters; sorting each column by
-// pair index makes the result independent of their order.
+// the columns. Views sized by the caller, at least (col_offset n + 1, col_cursor n, col_pairs
+// and pair_force count). The column fill takes slots by atomic counters; sorting each column
+// by pair index makes the result independent of their order.
 inline void build_contact_gather(const View<const int*>& discs, const View<const int*>& row_offset,
                                  const View<const int*>& pair_b, long count, ContactGather& g) {
   g.discs = discs;
@@ -230,18 +230,12 @@ inline void build_contact_gather(const View<const int*>& discs, const View<const
   const int n = static_cast<int>(discs.extent(0));
   const int pairs = static_cast<int>(count);
   const auto col_offset = g.col_offset, cursor = g.col_cursor, col_pairs = g.col_pairs;
-  Kokkos::deep_copy(cursor, 0);
+  Kokkos::deep_copy(Kokkos::subview(col_offset, std::make_pair(0, n + 1)), 0);
   Kokkos::parallel_for(
       "fracta::contact_gather_count", Kokkos::RangePolicy<ExecSpace>(0, pairs),
-      KOKKOS_LAMBDA(const int k) { Kokkos::atomic_increment(&cursor(pair_b(k))); });
-  Kokkos::parallel_scan(
-      "fracta::contact_gather_scan", Kokkos::RangePolicy<ExecSpace>(0, n + 1),
-      KOKKOS_LAMBDA(const int b, int& sum, const bool final) {
-        const int c = b < n ? cursor(b) : 0;
-        if (final) col_offset(b) = sum;
-        sum += c;
-      });
-  Kokkos::deep_copy(cursor, 0);
+      KOKKOS_LAMBDA(const int k) { Kokkos::atomic_increment(&col_offset(pair_b(k))); });
+  scan_rows(col_offset, n);
+  Kokkos::deep_copy(Kokkos::subview(cursor, std::make_pair(0, n)), 0);
   Kokkos::parallel_for(
       "fracta::contact_gather_fill", Kokkos::RangePolicy<ExecSpace>(0, pairs),
       KOKKOS_LAMBDA(const int k) {

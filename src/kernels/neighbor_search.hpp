@@ -267,21 +267,6 @@ struct AllPairs {
   }
 };
 
-// Exclusive scan of the per-disc counts in row_offset (n_discs + 1 entries, the last one is
-// overwritten); returns the total number of candidates.
-inline long scan_rows(const View<int*>& row_offset, int n_discs) {
-  long total = 0;
-  Kokkos::parallel_scan(
-      "fracta::contact_pair_scan", Kokkos::RangePolicy<ExecSpace>(0, n_discs + 1),
-      KOKKOS_LAMBDA(const int a, long& sum, const bool final) {
-        const int count = a < n_discs ? row_offset(a) : 0;
-        if (final) row_offset(a) = static_cast<int>(sum);
-        sum += count;
-      },
-      total);
-  return total;
-}
-
 // Counts candidates per disc into row_offset(0..n_discs-1). all_pairs selects the O(N^2) oracle.
 inline void count_candidates(const Nodes& nodes, const View<const int*>& discs, double skin,
                              bool all_pairs, const CellGrid& grid, const View<int*>& cell_start,

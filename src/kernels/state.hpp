@@ -88,6 +88,22 @@ KOKKOS_INLINE_FUNCTION void sort_segment(const List& list, int begin, int end) {
   }
 }
 
+// Exclusive scan in place of the per-row counts in offset[0, n) into row starts offset[0, n]
+// (n + 1 entries, the last one overwritten by the total); returns the total. The candidate
+// rows of the pre-search, the contact gather's columns, an insertion's rows.
+inline long scan_rows(const View<int*>& offset, int n) {
+  long total = 0;
+  Kokkos::parallel_scan(
+      "fracta::contact_pair_scan", Kokkos::RangePolicy<ExecSpace>(0, n + 1),
+      KOKKOS_LAMBDA(const int a, long& sum, const bool final) {
+        const int count = a < n ? offset(a) : 0;
+        if (final) offset(a) = static_cast<int>(sum);
+        sum += count;
+      },
+      total);
+  return total;
+}
+
 // Merges the disjoint increasing lists a[0, na) and b[0, nb) into out[0, na + nb), increasing:
 // every entry finds its place by a binary search in the other list.
 inline void merge_disjoint_sorted(const char* label, const View<int*>& a, int na,

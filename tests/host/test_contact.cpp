@@ -6,12 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstring>
 #include <set>
 #include <vector>
 
 #include "host/case.hpp"
 #include "host/simulation.hpp"
+#include "test_util.hpp"
 
 namespace fracta {
 namespace {
@@ -123,14 +123,7 @@ TEST(Contact, InsertedDiscsMissNoTouchingPairAndGiveTheRebuildRunBitwise) {
   EXPECT_EQ(cr.insertion_count(), 0);
   EXPECT_LT(ci.rebuild_count() + ci.insertion_count() / 2, cr.rebuild_count());
   EXPECT_EQ(inserting.conversions(), rebuilding.conversions());
-  StateViews a = inserting.state(), b = rebuilding.state();
-  for_each_state_view(a, b, [](const char* name, const auto& va, const auto& vb) {
-    const auto ha = Kokkos::create_mirror_view_and_copy(HostSpace(), va);
-    const auto hb = Kokkos::create_mirror_view_and_copy(HostSpace(), vb);
-    ASSERT_EQ(ha.span(), hb.span()) << name;
-    using Value = typename std::decay_t<decltype(ha)>::value_type;
-    EXPECT_EQ(std::memcmp(ha.data(), hb.data(), ha.span() * sizeof(Value)), 0) << name;
-  });
+  EXPECT_GE(test::expect_same_state(inserting, rebuilding), 40);
 }
 
 TEST(Contact, TrackedDiscsAreTheBoundaryNodesAndParticlesAndMissNoTouchingPair) {
