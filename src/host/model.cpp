@@ -293,6 +293,7 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   bonds.fn = View<double*>("fracta::bond_fn", nb);
   bonds.fs = View<double*>("fracta::bond_fs", nb);
   bonds.plastic_n = View<double*>("fracta::bond_plastic_n", nb);
+  bonds.rest_length = to_device_1d<double>("bond_rest_length", length0);  // plastic_n = 0
   bonds.plastic_s = View<double*>("fracta::bond_plastic_s", nb);
   bonds.hardening = View<double*>("fracta::bond_hardening", nb);
   bonds.plastic_work = View<double*>("fracta::bond_plastic_work", nb);

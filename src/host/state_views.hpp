@@ -58,6 +58,7 @@ void for_each_state_view(StateViews& a, StateViews& b, F&& f) {
   f("bonds.fn", bo.fn, sb.fn);
   f("bonds.fs", bo.fs, sb.fs);
   f("bonds.plastic_n", bo.plastic_n, sb.plastic_n);
+  f("bonds.rest_length", bo.rest_length, sb.rest_length);
   f("bonds.plastic_s", bo.plastic_s, sb.plastic_s);
   f("bonds.hardening", bo.hardening, sb.hardening);
   f("bonds.plastic_work", bo.plastic_work, sb.plastic_work);

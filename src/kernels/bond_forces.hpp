@@ -274,6 +274,9 @@ struct BondForces {
     }
 #endif
     for (; k < end; ++k) bond(slot(k), acc);
+#ifdef FRACTA_HOST_SIMD
+    stream_fence();  // the batches' streamed stores are seen before the chunk counts as done
+#endif
   }
 
 #ifdef FRACTA_HOST_SIMD
@@ -403,9 +406,8 @@ struct BondForces {
     const T inverse_length = 1.0 / length;
     const T nx = dx * inverse_length, ny = dy * inverse_length;
     const T kn = load_lanes<T>(bonds.kn.data(), b, true);
-    const T L0 = load_lanes<T>(bonds.length0.data(), b, true);
-    const T up = load_lanes<T>(bonds.plastic_n.data(), b, true);
-    T fn = kn * ((length - L0) - up);  // bilinear_spring without a yield force
+    // bond()'s elastic spring: the natural length L0 + u_p as one value (Bonds::rest_length).
+    T fn = kn * (length - load_lanes<T>(bonds.rest_length.data(), b, true));
     T fs = splat<T>(0.0), li = fs, lj = fs;
     if constexpr (kShear) {
       const T ri = column(nodes.radius, i);
@@ -476,7 +478,7 @@ struct BondForces {
       pair(nodes.x0, i, x0i, y0i);
       pair(nodes.x0, j, x0j, y0j);
       const T ux = x0j - x0i, uy = y0j - y0i;
-      const T inverse_L0 = 1.0 / L0;
+      const T inverse_L0 = 1.0 / load_lanes<T>(bonds.length0.data(), b, true);
       const T n0x = ux * inverse_L0, n0y = uy * inverse_L0;
       const T mean = cells > 1.0 ? splat<T>(0.5) : splat<T>(1.0);
       const T sxx = s3[0] * mean, syy = s3[1] * mean, sxy = s3[2] * mean;
@@ -495,7 +497,8 @@ struct BondForces {
       if (law.cohesion > 0.0) reaches = reaches || tau >= law.cohesion - sigma_n * law.tan_friction;
       if (any_lane(reaches)) return false;
     }
-    store_lanes(fn, bonds.fn.data(), b, true);
+    // fn is only written here (the next step reads it): past the caches, saving the line's read.
+    stream_lanes(fn, bonds.fn.data() + b0);
     if constexpr (kShear) store_lanes(fs, bonds.fs.data(), b, true);
     const T fx = fn * nx - fs * ny, fy = fn * ny + fs * nx;
     const T mi = li * fs, mj = lj * fs;
@@ -554,14 +557,18 @@ struct BondForces {
     // have set: the cell's strain beyond its elastic part): read what the forces need, write
     // nothing back (a sixth of the bytes a bond moves per step).
     const bool plastic_law = law.yield_stress > 0.0;
-    double up = bonds.plastic_n(b), us_p = plastic_law ? bonds.plastic_s(b) : 0.0;
+    double up = plastic_law ? bonds.plastic_n(b) : 0.0,
+           us_p = plastic_law ? bonds.plastic_s(b) : 0.0;
     double alpha = plastic_law ? bonds.hardening(b) : 0.0;
     // fn, fs: the undamaged spring forces; a softening bond applies (1 - D) of them.
     const bool cohesive = law.fracture_energy > 0.0;
     const double damage_old = cohesive ? bonds.damage(b) : 0.0;
     const double fn_old = bonds.fn(b), fs_old = bonds.fs(b);
     double fn = 0.0, fs = 0.0, plastic = 0.0;
-    plastic += bilinear_spring(kn, length - L0, fy_n, k_hard, up, alpha, fn);
+    if (plastic_law)
+      plastic += bilinear_spring(kn, length - L0, fy_n, k_hard, up, alpha, fn);
+    else
+      fn = kn * (length - bonds.rest_length(b));  // L0 + u_p: the spring's natural length
     double shear_increment = 0.0;
     if (ks > 0.0) {
       // Shear displacement increment (paper Eq. 8 corrected): relative tangential velocity
@@ -700,6 +707,7 @@ struct BondForces {
     bonds.fs(b) = fs;
     if (plastic_law) {
       bonds.plastic_n(b) = up;
+      bonds.rest_length(b) = L0 + up;
       bonds.plastic_s(b) = us_p;
       bonds.hardening(b) = alpha;
       bonds.plastic_work(b) += plastic;

@@ -420,6 +420,7 @@ inline void finish_converted_bonds(const View<int*>& cells, int count,
           const double up = L - bonds.length0(b) -
                             fn / (fn > 0.0 ? (1.0 - bonds.damage(b)) * bonds.kn(b) : bonds.kn(b));
           bonds.plastic_n(b) = up;
+          bonds.rest_length(b) = bonds.length0(b) + up;
           // Discs of a cell that flowed plastically (or was strongly sheared) before converting
           // are closer than their radii. Shrink them to the current distance of every pair of
           // the cell, and of an edge also to its natural length L0 + u_p: when a bond breaks,

@@ -223,6 +223,26 @@ inline void store_triples(double* triples, const Double8& a, const Double8& b, c
   __builtin_memcpy(triples + 16, &r, sizeof r);
 }
 
+// Eight lanes into consecutive doubles at p, write-only: a non-temporal store where p is a whole
+// cache line (AVX-512), which does not first read the line it overwrites (a store that misses
+// the cache reads it first: twice the traffic for an array the kernel only writes); else a plain
+// store. A thread's streamed stores are ordered by stream_fence(), which it must run before its
+// results are used (before the end of its work).
+inline void stream_lanes(const Double8& v, double* p) {
+#if defined(__AVX512F__)
+  if ((reinterpret_cast<unsigned long>(p) & 63) == 0) {
+    _mm512_stream_pd(p, reinterpret_cast<__m512d>(v));
+    return;
+  }
+#endif
+  __builtin_memcpy(p, &v, sizeof v);
+}
+inline void stream_fence() {
+#if defined(__AVX512F__)
+  _mm_sfence();
+#endif
+}
+
 // Lane l of the result is lane l - 1 of v; lane 0 is 0.
 inline Double8 shift_up_one_lane(const Double8& v) {
   return __builtin_shuffle(v, Double8{}, Mask8{8, 0, 1, 2, 3, 4, 5, 6});

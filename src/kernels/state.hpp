@@ -135,16 +135,19 @@ enum BondRunBits : unsigned char { kRunContinues = 1, kRunNormalOnly = 2 };
 // distance from its centre to the contact point (l_i = r_i at the rest length).
 struct Bonds {
   View<int* [2]> nodes;
-  View<int*> kind;             // BondKind
-  View<int*> material;         // material of the elements that activated it
-  View<int*> state;            // BondState
-  View<double*> kn;            // normal stiffness (N/m), sum of element contributions
-  View<double*> ks;            // shear stiffness (N/m)
-  View<double*> length0;       // rest length (m)
-  View<double*> area;          // effective area S (m^2): bond stress = force / S
-  View<double*> fn;            // normal force (N), tension positive
-  View<double*> fs;            // shear force (N)
-  View<double*> plastic_n;     // plastic elongation (m) of the bilinear normal spring
+  View<int*> kind;          // BondKind
+  View<int*> material;      // material of the elements that activated it
+  View<int*> state;         // BondState
+  View<double*> kn;         // normal stiffness (N/m), sum of element contributions
+  View<double*> ks;         // shear stiffness (N/m)
+  View<double*> length0;    // rest length (m)
+  View<double*> area;       // effective area S (m^2): bond stress = force / S
+  View<double*> fn;         // normal force (N), tension positive
+  View<double*> fs;         // shear force (N)
+  View<double*> plastic_n;  // plastic elongation (m) of the bilinear normal spring
+  // Natural length of the normal spring, length0 + plastic_n (m), kept by every writer of
+  // plastic_n: elastic springs read this one value instead of two (bond_forces.hpp).
+  View<double*> rest_length;
   View<double*> plastic_s;     // plastic slip (m) of the bilinear shear spring
   View<double*> hardening;     // accumulated plastic displacement (m), isotropic hardening
   View<double*> plastic_work;  // cumulative (J)
