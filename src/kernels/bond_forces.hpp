@@ -749,7 +749,8 @@ inline BondStepResult compute_bond_forces(const Nodes& nodes, const Elements& el
   Sums<3> s;
   if (bonds.scatter.usable(count)) {
     forces.atomic = false;
-    s = for_each_chunk<Kokkos::Sum<Sums<3>>>("fracta::bond_forces", bonds.scatter, forces);
+    s = for_each_chunk<Kokkos::Sum<Sums<3>>>("fracta::bond_forces", bonds.scatter,
+                                             std::move(forces));
   } else {
     Kokkos::parallel_reduce("fracta::bond_forces", Kokkos::RangePolicy<ExecSpace>(0, count), forces,
                             Kokkos::Sum<Sums<3>>(s));

@@ -472,16 +472,15 @@ struct FeForces {
 // conversion.hpp). Without a usable elements.scatter (the plan of the active list:
 // update_scatter_plan) the forces are added atomically.
 template <int QP>
-inline FeStepSums launch_fe_forces(const char* name, const FeForces<QP>& kernel) {
-  const Elements& elements = kernel.elements;
-  if (elements.scatter.usable(elements.active_count)) {
-    FeForces<QP> k = kernel;
-    k.atomic = false;
-    return for_each_chunk<FeStepReducer>(name, elements.scatter, k);
+inline FeStepSums launch_fe_forces(const char* name, FeForces<QP> kernel) {
+  const int active_count = kernel.elements.active_count;
+  if (kernel.elements.scatter.usable(active_count)) {
+    kernel.atomic = false;
+    const ScatterPlan plan = kernel.elements.scatter;
+    return for_each_chunk<FeStepReducer>(name, plan, std::move(kernel));
   }
   FeStepSums sums;
-  const auto policy =
-      Kokkos::RangePolicy<ExecSpace>(0, FeForces<QP>::batches(elements.active_count));
+  const auto policy = Kokkos::RangePolicy<ExecSpace>(0, FeForces<QP>::batches(active_count));
   Kokkos::parallel_reduce(name, policy, kernel, FeStepReducer(sums));
   return sums;
 }

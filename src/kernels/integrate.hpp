@@ -225,12 +225,14 @@ struct NodeBatches {
   }
 };
 
+// The kick is moved, not copied, into the batches: a host copy of the Nodes views counts each
+// reference with an atomic (for_each_chunk in scatter.hpp).
 template <class Kick>
-double run_kick(const char* name, const Kick& kick) {
+double run_kick(const char* name, Kick kick) {
   double work = 0.0;
   const int items = (kick.nodes.count + kLanes - 1) / kLanes;
-  Kokkos::parallel_reduce(name, Kokkos::RangePolicy<ExecSpace>(0, items), NodeBatches<Kick>{kick},
-                          work);
+  Kokkos::parallel_reduce(name, Kokkos::RangePolicy<ExecSpace>(0, items),
+                          NodeBatches<Kick>{std::move(kick)}, work);
   return work;
 }
 
