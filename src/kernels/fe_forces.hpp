@@ -485,19 +485,55 @@ inline FeStepSums launch_fe_forces(const char* name, FeForces<QP> kernel) {
   return sums;
 }
 
+// The views the element kernel uses: each view a kernel's functor holds costs an atomic per host
+// copy (for_each_chunk, scatter.hpp), and an adaptive body's disc and cell views, which the
+// element kernel never reads, would make its launch dearer than pure FE's (issue 5, item 5).
+inline Nodes fe_node_views(const Nodes& nodes) {
+  Nodes k;
+  k.x = nodes.x;
+  k.v = nodes.v;
+  k.f = nodes.f;
+  k.count = nodes.count;
+  return k;
+}
+inline Elements fe_element_views(const Elements& elements) {
+  Elements k;
+  k.nodes = elements.nodes;
+  k.material = elements.material;
+  k.active = elements.active;
+  k.count = elements.count;
+  k.active_count = elements.active_count;
+  k.qp_per_element = elements.qp_per_element;
+  k.stress = elements.stress;
+  k.epeq = elements.epeq;
+  k.qp_volume = elements.qp_volume;
+  k.bulk_viscosity = elements.bulk_viscosity;
+  k.hourglass_disp = elements.hourglass_disp;
+  k.hourglass_force = elements.hourglass_force;
+  k.recoverable_work = elements.recoverable_work;
+  k.scatter = elements.scatter;
+  return k;
+}
+
 inline FeStepSums compute_fe_forces(const Nodes& nodes, const Elements& elements,
                                     const View<const MaterialLaw*>& materials, const FeParams& p,
                                     const ConversionCriterion& criterion = {},
                                     const View<int>& conversion_pending = {},
                                     const View<int*>& conversion_candidates = {}) {
   if (elements.active_count == 0) return FeStepSums();
+  // Of the criterion the kernel reads the adaptive set and the tension switch (FeForces).
+  ConversionCriterion flags;
+  flags.adaptive = criterion.adaptive;
+  flags.on_tension = criterion.on_tension;
   if (elements.qp_per_element == 1)
-    return launch_fe_forces("fracta::fe_forces",
-                            FeForces<1>{nodes, elements, materials, p, criterion,
-                                        conversion_pending, conversion_candidates});
-  return launch_fe_forces("fracta::fe_forces_full",
-                          FeForces<4>{nodes, elements, materials, p, criterion, conversion_pending,
-                                      conversion_candidates});
+    return launch_fe_forces(
+        "fracta::fe_forces",
+        FeForces<1>{fe_node_views(nodes), fe_element_views(elements), materials, p,
+                    std::move(flags), conversion_pending, conversion_candidates});
+  return launch_fe_forces(
+      "fracta::fe_forces_full",
+      FeForces<4>{fe_node_views(nodes), fe_element_views(elements), materials, p, std::move(flags),
+                  conversion_pending, conversion_candidates});
 }
 
 // The scatter plan of the elements (kernels/scatter.hpp), cut once from the mesh and located in
