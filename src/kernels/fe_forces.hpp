@@ -485,17 +485,10 @@ inline FeStepSums launch_fe_forces(const char* name, FeForces<QP> kernel) {
   return sums;
 }
 
-// The views the element kernel uses: each view a kernel's functor holds costs an atomic per host
-// copy (for_each_chunk, scatter.hpp), and an adaptive body's disc and cell views, which the
-// element kernel never reads, would make its launch dearer than pure FE's (issue 5, item 5).
-inline Nodes fe_node_views(const Nodes& nodes) {
-  Nodes k;
-  k.x = nodes.x;
-  k.v = nodes.v;
-  k.f = nodes.f;
-  k.count = nodes.count;
-  return k;
-}
+// The views the element kernel uses (node_motion_views and these): each view a kernel's functor
+// holds costs an atomic per host copy (for_each_chunk, scatter.hpp), and an adaptive body's disc
+// and cell views, which the element kernel never reads, would make its launch dearer than pure FE's
+// (issue 5, item 5).
 inline Elements fe_element_views(const Elements& elements) {
   Elements k;
   k.nodes = elements.nodes;
@@ -528,12 +521,12 @@ inline FeStepSums compute_fe_forces(const Nodes& nodes, const Elements& elements
   if (elements.qp_per_element == 1)
     return launch_fe_forces(
         "fracta::fe_forces",
-        FeForces<1>{fe_node_views(nodes), fe_element_views(elements), materials, p,
+        FeForces<1>{node_motion_views(nodes), fe_element_views(elements), materials, p,
                     std::move(flags), conversion_pending, conversion_candidates});
   return launch_fe_forces(
       "fracta::fe_forces_full",
-      FeForces<4>{fe_node_views(nodes), fe_element_views(elements), materials, p, std::move(flags),
-                  conversion_pending, conversion_candidates});
+      FeForces<4>{node_motion_views(nodes), fe_element_views(elements), materials, p,
+                  std::move(flags), conversion_pending, conversion_candidates});
 }
 
 // The scatter plan of the elements (kernels/scatter.hpp), cut once from the mesh and located in

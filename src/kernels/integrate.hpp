@@ -241,14 +241,10 @@ double run_kick(const char* name, Kick kick) {
 // an adaptive body's disc views, which the kicks leave alone until a cell converts, would make
 // its kicks dearer than pure FE's (issue 5, item 5).
 inline Nodes kick_views(const Nodes& nodes, const bool rotations) {
-  Nodes k;
-  k.x = nodes.x;
-  k.v = nodes.v;
-  k.f = nodes.f;
+  Nodes k = node_motion_views(nodes);
   k.f_ext = nodes.f_ext;
   k.mass = nodes.mass;
   k.fixed = nodes.fixed;
-  k.count = nodes.count;
   if (rotations) {
     k.particle = nodes.particle;
     k.inertia = nodes.inertia;

@@ -58,6 +58,18 @@ struct Nodes {
   }
 };
 
+// The node views of the motion (x, v, f) and the count alone: for the kernels that need no
+// more, or these and a few (kick_views). Each view a kernel's functor holds costs an atomic per
+// host copy of it (for_each_chunk, scatter.hpp).
+inline Nodes node_motion_views(const Nodes& nodes) {
+  Nodes k;
+  k.x = nodes.x;
+  k.v = nodes.v;
+  k.f = nodes.f;
+  k.count = nodes.count;
+  return k;
+}
+
 // Number of entries of the non-decreasing list [0, count) that are < value (the first index
 // whose entry is >= value).
 template <class List>
