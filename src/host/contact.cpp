@@ -213,11 +213,9 @@ void ContactSystem::rebuild(const Nodes& nodes) {
     const DiscBounds box = disc_bounds(nodes, discs_);
     build_r_max_ = box.r_max;
     grid = make_grid(box, skin_, std::max(4L * n, 65536L));
-    const long cells = grid.cell_count();
-    if (static_cast<long>(cell_cursor_.extent(0)) < cells) {
-      cell_start_ = View<int*>("fracta::contact_cell_start", cells + 1);
-      cell_cursor_ = View<int*>("fracta::contact_cell_cursor", cells);
-    }
+    const size_t cells = static_cast<size_t>(grid.cell_count());
+    reserve(cell_start_, cells + 1, "fracta::contact_cell_start");  // bin_points zeroes it
+    reserve(cell_cursor_, cells, "fracta::contact_cell_cursor");
     bin_discs(nodes, discs_, grid, cell_start_, cell_cursor_, cell_discs_);
   }
   count_candidates(nodes, discs_, skin_, all_pairs_, grid, cell_start_, cell_discs_, row_offset_);

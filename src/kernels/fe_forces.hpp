@@ -150,9 +150,12 @@ struct FeForces {
   Elements elements;
   View<const MaterialLaw*> materials;  // from material_law (cache_derived done)
   FeParams p;
-  // Adaptive scenes: set conversion_pending() to 1 if an element meets its conversion criterion
-  // after this update, so the conversion pass runs only when there is something to convert.
-  ConversionCriterion criterion;
+  // Adaptive scenes: of the conversion criterion (ConversionCriterion), the elements that may
+  // convert (per mesh element) and whether tension converts. The kernel counts in
+  // conversion_pending the elements that may have met it after this update, so the conversion
+  // pass runs only when there is something to convert.
+  View<const int*> adaptive;
+  bool on_tension = false;
   View<int> conversion_pending;      // number of flagged elements; empty: no check
   View<int*> conversion_candidates;  // active indices of the first flagged (any order)
 
@@ -303,7 +306,7 @@ struct FeForces {
         // either form, so every element the exact criterion takes is flagged: the conversion
         // re-checks only the flagged ones exactly, and a false alarm costs one check.
         if (mat.conversion_strain > 0.0) convert = convert || epeq >= mat.conversion_strain;
-        if (criterion.on_tension && mat.tensile_strength > 0.0) {
+        if (on_tension && mat.tensile_strength > 0.0) {
           const T centre = 0.5 * (s[0] + s[1]);
           const T r2 = 0.25 * (s[0] - s[1]) * (s[0] - s[1]) + s[3] * s[3];
           const double limit = mat.tensile_strength * (1.0 - 1e-9);
@@ -451,7 +454,7 @@ struct FeForces {
       acc.plastic += get_lane(plastic, l);
       acc.hourglass += get_lane(hourglass, l);
       acc.viscous += get_lane(viscous, l);
-      if (get_lane(convert, l) && criterion.adaptive(e[l])) {
+      if (get_lane(convert, l) && adaptive(e[l])) {
         // Counts the flags; the first conversion_candidates.extent(0) keep their active index.
         acc.flagged += 1.0;
         const int slot = Kokkos::atomic_fetch_add(&conversion_pending(), 1);
@@ -514,19 +517,15 @@ inline FeStepSums compute_fe_forces(const Nodes& nodes, const Elements& elements
                                     const View<int>& conversion_pending = {},
                                     const View<int*>& conversion_candidates = {}) {
   if (elements.active_count == 0) return FeStepSums();
-  // Of the criterion the kernel reads the adaptive set and the tension switch (FeForces).
-  ConversionCriterion flags;
-  flags.adaptive = criterion.adaptive;
-  flags.on_tension = criterion.on_tension;
   if (elements.qp_per_element == 1)
-    return launch_fe_forces(
-        "fracta::fe_forces",
-        FeForces<1>{node_motion_views(nodes), fe_element_views(elements), materials, p,
-                    std::move(flags), conversion_pending, conversion_candidates});
-  return launch_fe_forces(
-      "fracta::fe_forces_full",
-      FeForces<4>{node_motion_views(nodes), fe_element_views(elements), materials, p,
-                  std::move(flags), conversion_pending, conversion_candidates});
+    return launch_fe_forces("fracta::fe_forces",
+                            FeForces<1>{node_motion_views(nodes), fe_element_views(elements),
+                                        materials, p, criterion.adaptive, criterion.on_tension,
+                                        conversion_pending, conversion_candidates});
+  return launch_fe_forces("fracta::fe_forces_full",
+                          FeForces<4>{node_motion_views(nodes), fe_element_views(elements),
+                                      materials, p, criterion.adaptive, criterion.on_tension,
+                                      conversion_pending, conversion_candidates});
 }
 
 // The scatter plan of the elements (kernels/scatter.hpp), cut once from the mesh and located in
