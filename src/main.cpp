@@ -1,4 +1,4 @@
-// fracta command line (DESIGN.md 3.1): run | check | info.
+// fracta command line: run | check | info (README.md, docs/output.md for the exit codes).
 // Exit codes: 0 success, 2 bad input, 3 numerical failure (after writing the last good state),
 // 130 / 143 stopped by SIGINT / SIGTERM (after writing a checkpoint and a final frame).
 #include <unistd.h>
@@ -6,6 +6,8 @@
 #include <Kokkos_Core.hpp>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
+#include <vector>
 
 #include "host/case.hpp"
 #include "host/memory.hpp"
@@ -76,9 +78,24 @@ int main(int argc, char** argv) {
   // Kokkos 3.4 prints a warning on stdout unless the OpenMP binding is set: set a good default.
   setenv("OMP_PROC_BIND", "spread", 0);
   setenv("OMP_PLACES", "threads", 0);
-  Kokkos::ScopeGuard kokkos(argc, argv);  // consumes --kokkos-* arguments
+  // Kokkos reads its own options (--kokkos-num-threads=N, ...) but also answers a bare --help
+  // with its option list: it gets neither --help nor -h, so `fracta --help` is fracta's help,
+  // and the command line parser gets every argument but the --kokkos-* ones.
+  std::vector<char*> kokkos_args, cli_args;
+  for (int i = 0; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (i == 0 || (arg != "--help" && arg != "-h")) kokkos_args.push_back(argv[i]);
+    if (i == 0 || arg.rfind("--kokkos-", 0) != 0) cli_args.push_back(argv[i]);
+  }
+  int kokkos_argc = static_cast<int>(kokkos_args.size());
+  kokkos_args.push_back(nullptr);
+  Kokkos::ScopeGuard kokkos(kokkos_argc, kokkos_args.data());
 
   CLI::App app{"fracta: 2D adaptive FE-DE impact dynamics"};
+  app.footer(
+      "Threads: OMP_NUM_THREADS=N or --kokkos-num-threads=N; --kokkos-help lists Kokkos' "
+      "options.\nExit codes: 0 done, 1 internal or I/O error, 2 bad input, 3 numerical failure, "
+      "130 / 143 stopped by SIGINT / SIGTERM.\nReference: README.md and docs/.");
   app.require_subcommand(1);
   std::string case_path, output_path, restart_path;
   std::vector<std::string> overrides;
@@ -101,7 +118,7 @@ int main(int argc, char** argv) {
   app.add_subcommand("info", "print version, Kokkos backend and thread count");
 
   try {
-    app.parse(argc, argv);
+    app.parse(static_cast<int>(cli_args.size()), cli_args.data());
   } catch (const CLI::ParseError& e) {
     const int rc = app.exit(e);
     return rc == 0 ? 0 : 2;

@@ -141,7 +141,7 @@ struct SimulationParams {
   double dt = 0;                   // s; 0 = automatic
   bool allow_unstable_dt = false;  // expert switch: accept a fixed dt above the stable bound
   double output_interval = 0;      // s; 0 = only the first and last frame
-  double history_interval = 0;     // s; 0 = every step
+  double history_interval = 0;     // s; 0 = automatic: end_time / 1000 (history_every_for)
   HourglassForm hourglass = HourglassForm::viscous;
   double hourglass_coefficient = 0.1;
   Integration integration = Integration::reduced;

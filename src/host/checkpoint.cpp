@@ -217,33 +217,12 @@ extern "C" void on_stop_signal(int signal) {
 
 // Friend of Simulation: the host-side state that is not a view.
 struct CheckpointIO {
-  // Calls f(name, value&) for every Simulation scalar that a step reads or writes.
+  // Calls f(name, value&) for every Simulation scalar that a step reads or writes: the ledger's
+  // fields and the lengths of the model's lists (ledger.hpp).
   template <class F>
-  static void scalars(Simulation& s, F&& f) {
-    f("time", s.time_);
-    f("dt", s.dt_);
-    f("dt_bound", s.dt_bound_);
-    f("dt_initial", s.dt_initial_);
-    f("steps", s.steps_);
-    f("external_work", s.external_work_);
-    f("initial_energy", s.initial_energy_);
-    f("bond_dt_bound", s.bond_dt_bound_);
-    f("fracture_energy", s.fracture_energy_);
-    f("energy_floor", s.energy_floor_);
-    f("broken_bonds", s.broken_bonds_);
-    f("touching", s.touching_);
-    f("contact_elastic", s.contact_elastic_);
-    f("contact_dissipated", s.contact_dissipated_);
-    f("element_plastic_work", s.element_plastic_work_);
-    f("hourglass_work", s.hourglass_work_);
-    f("viscous_work", s.viscous_work_);
-    f("conversion_energy", s.conversion_energy_);
-    f("conversions", s.conversions_);
-    f("conversions_this_step", s.conversions_this_step_);
-    f("converted_count", s.model_.converted_count);
-    f("active_elements", s.model_.elements.active_count);
-    f("used_bonds", s.model_.bonds.used_count);
-    f("particles", s.model_.nodes.particle_count);
+  static void scalars(Simulation& s, ListCounts& lists, F&& f) {
+    for_each_field(s.ledger_, f);
+    for_each_field(lists, f);
   }
 
   static void write(Simulation& s, hid_t file) {
@@ -256,7 +235,8 @@ struct CheckpointIO {
     });
     H5Handle scalar_group(H5Gcreate2(file, "scalars", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                           H5Gclose, "checkpoint: cannot create /scalars");
-    scalars(s, [&](const char* name, auto& value) {
+    ListCounts lists = ListCounts::of(s.model_);
+    scalars(s, lists, [&](const char* name, auto& value) {
       using T = std::decay_t<decltype(value)>;
       if constexpr (std::is_same_v<T, double>)
         write_attribute(scalar_group.get(), name, value);
@@ -288,13 +268,15 @@ struct CheckpointIO {
     s.stable_dt_.invalidate();  // the bonds and radii were replaced
     H5Handle scalar_group(H5Gopen2(file, "scalars", H5P_DEFAULT), H5Gclose,
                           "group /scalars is missing");
-    scalars(s, [&](const char* name, auto& value) {
+    ListCounts lists;
+    scalars(s, lists, [&](const char* name, auto& value) {
       using T = std::decay_t<decltype(value)>;
       if constexpr (std::is_same_v<T, double>)
         value = read_attribute<double>(scalar_group.get(), name);
       else
         value = static_cast<T>(read_attribute<std::int64_t>(scalar_group.get(), name));
     });
+    lists.apply_to(s.model_);
     std::vector<RigidBody>& bodies = s.model_.rigid;
     const std::vector<double> rigid = read_dataset<double>(file, "rigid", {bodies.size(), 6});
     for (size_t k = 0; k < bodies.size(); ++k) {
@@ -338,7 +320,7 @@ struct CheckpointIO {
     Kokkos::deep_copy(s.conversion_pending_, 0);
     // The next step as the uninterrupted run computes it, for the restart's end_time (the
     // stored dt was shortened if the checkpoint's run ended at this time).
-    s.dt_ = s.next_dt();
+    s.ledger_.clock.dt = s.next_dt();
   }
 };
 

@@ -101,6 +101,12 @@ V clone(const V& src) {
   return dst;
 }
 
+// The step's stable bound (s): the smaller of the FE and lattice bounds; a negative FE bound
+// flags an inverted element and stays negative.
+double combined_stable_dt(double fe_bound, double lattice_bound) {
+  return fe_bound < 0.0 ? fe_bound : std::min(fe_bound, lattice_bound);
+}
+
 std::string format_duration(double s) {
   char buf[32];
   // Over 30 years is no ETA; far larger values would not fit the long (undefined behaviour).
@@ -115,92 +121,204 @@ std::string format_duration(double s) {
 
 }  // namespace
 
+double history_every_for(const SimulationParams& sim) {
+  return sim.history_interval > 0.0 ? sim.history_interval : sim.end_time / kHistoryRows;
+}
+
+namespace {
+
+// One argument for a POSIX shell: as it is when it holds no character the shell would treat
+// specially, else in single quotes.
+std::string shell_quoted(const std::string& arg) {
+  const bool plain = !arg.empty() && arg.find_first_not_of(
+                                         "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                         "0123456789._-+=/:,@%") == std::string::npos;
+  if (plain) return arg;
+  std::string quoted = "'";
+  for (char ch : arg) quoted += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+  return quoted + "'";
+}
+
+}  // namespace
+
+std::string restart_command(const Case& c, const std::string& checkpoint_path) {
+  std::string command =
+      "fracta run " + shell_quoted(c.path) + " --restart " + shell_quoted(checkpoint_path);
+  // A restart must repeat the run's overrides (check_restart_compatible compares the cases
+  // after them).
+  if (!c.overrides.empty()) {
+    command += " --set";
+    for (const std::string& o : c.overrides) command += " " + shell_quoted(o);
+  }
+  return command;
+}
+
 Simulation::Simulation(const Case& c) : model_(build_model(c)) {
-  // Initial forces (dt = 0: no strain increment) give f(0) and the first stable step.
+  StepClock& clock = ledger_.clock;
   // The bond network's bound: bonds only weaken or break, so it stays valid until a conversion
   // adds stiffness; it allows 6 contacts per disc.
   stable_dt_.cache = true;
-  bond_dt_bound_ = bond_stable_dt(model_.nodes, model_.bonds, model_.topology, 6, stable_dt_);
-  apply_loads(model_.nodes, model_.tables, model_.pressure_edges, model_.nodal_forces,
-              c.sim.thickness, 0.0);
-  dt_bound_ = evaluate_forces(0.0);
-  if (dt_bound_ <= 0.0)
+  ledger_.bounds.lattice =
+      bond_stable_dt(model_.nodes, model_.bonds, model_.topology, 6, stable_dt_);
+  initial_forces();
+  if (ledger_.bounds.step <= 0.0)
     throw InputError(c.path, c.sim.pos.line, "body", "an element has zero or negative area");
-  if (c.sim.dt > 0.0 && c.sim.dt > dt_bound_ && !c.sim.allow_unstable_dt) {
+  if (c.sim.dt > 0.0 && c.sim.dt > ledger_.bounds.step && !c.sim.allow_unstable_dt) {
     std::ostringstream msg;
-    msg << "fixed dt = " << c.sim.dt << " s exceeds the stable bound " << dt_bound_
-        << " s (largest stable value; the automatic step would be " << c.sim.dt_safety * dt_bound_
+    msg << "fixed dt = " << c.sim.dt << " s exceeds the stable bound " << ledger_.bounds.step
+        << " s (largest stable value; the automatic step would be "
+        << c.sim.dt_safety * ledger_.bounds.step
         << " s). Remove dt, lower it, or set simulation.allow_unstable_dt = true (expert)";
     throw InputError(c.path, c.sim.dt_pos.line ? c.sim.dt_pos.line : c.sim.pos.line,
                      "simulation.dt", msg.str());
   }
-  dt_ = next_dt();
-  dt_initial_ = dt_;
+  clock.dt = next_dt();
+  clock.dt_initial = clock.dt;
   double c_max = 0.0;
   for (const MaterialLaw& law : model_.host_materials) c_max = std::max(c_max, law.wave_speed());
-  energy_floor_ = 1e-12 * node_totals(model_.nodes, 0.0).mass * c_max * c_max;
+  ledger_.energy.floor = 1e-12 * node_totals(model_.nodes, 0.0).mass * c_max * c_max;
   const HistoryRecord h0 = history();
-  initial_energy_ = h0.energy.kinetic + h0.energy.time_discretization + h0.energy.internal;
+  ledger_.energy.initial = h0.energy.kinetic + h0.energy.time_discretization + h0.energy.internal;
   save_snapshot();
 }
 
-double Simulation::evaluate_forces(double dt) {
+void Simulation::step(bool defer_kick) {
+  if (failed()) return;
+  ProfilingRegion region("fracta::step");
+  StepClock& clock = ledger_.clock;
+  const double dt = clock.dt;
+  kick_drift();
+  clock.time += dt;
+  apply_loads();
+  const FeStepSums fe = element_forces(dt);
+  const BondStepResult lattice = bond_forces(dt);
+  contact_search();
+  const ContactPhaseSums contact = contact_forces(dt);
+  ledger_.add(fe);
+  ledger_.add(lattice);
+  ledger_.add(contact, dt);
+  ledger_.bounds.step = combined_stable_dt(fe.dt_min, ledger_.bounds.lattice);
+  kick(defer_kick);
+  convert();
+  ++clock.steps;
+
+  if (!(ledger_.bounds.step > 0.0)) {
+    failure_ = "an element inverted or became non-finite at step " + std::to_string(clock.steps);
+    return;
+  }
+  const SimulationParams& sim = model_.scene.sim;
+  if (sim.dt <= 0.0 && sim.dt_safety * ledger_.bounds.step < 1e-6 * clock.dt_initial) {
+    failure_ = "time step collapsed below 1e-6 of its initial value";
+    return;
+  }
+  clock.dt = next_dt();
+}
+
+void Simulation::initial_forces() {
+  // dt = 0: no strain increment; the forces f(0) and the first stable bound.
+  apply_loads();
+  const FeStepSums fe = element_forces(0.0);
+  ledger_.add(fe);
+  ledger_.add(bond_forces(0.0));
+  contact_search();
+  ledger_.add(contact_forces(0.0), 0.0);
+  ledger_.bounds.step = combined_stable_dt(fe.dt_min, ledger_.bounds.lattice);
+}
+
+void Simulation::kick_drift() {
+  Model& m = model_;
+  const double dt = ledger_.clock.dt;
+  {
+    ProfilingRegion integrate("fracta::integrate");
+    ledger_.energy.external +=
+        kick_pending_ ? kick_kick_drift(m.nodes, last_dt_, dt) : fracta::kick_drift(m.nodes, dt);
+    kick_pending_ = false;
+  }
+  for (RigidBody& b : m.rigid) {
+    project_rigid(b, m.nodes);
+    drift_rigid(b, m.nodes, m.rigid_offset, dt);
+    write_rigid_velocity(b, m.nodes);
+  }
+}
+
+void Simulation::apply_loads() {
+  Model& m = model_;
+  fracta::apply_loads(m.nodes, m.tables, m.pressure_edges, m.nodal_forces, m.scene.sim.thickness,
+                      ledger_.clock.time);
+}
+
+FeStepSums Simulation::element_forces(double dt) {
+  ProfilingRegion region("fracta::fe_forces");
   Model& m = model_;
   FeParams p = m.fe;
   p.dt = dt;
-  double bound;
-  {
-    ProfilingRegion region("fracta::fe_forces");
-    const FeStepSums fe =
-        m.has_adaptive
-            ? compute_fe_forces(m.nodes, m.elements, m.materials, p, conversion_criterion(m),
-                                conversion_pending_, conversion_candidates_)
-            : compute_fe_forces(m.nodes, m.elements, m.materials, p);
-    bound = fe.dt_min;
-    if (fe.flagged > 0.0) conversion_flagged_ = true;
-    element_plastic_work_ += fe.plastic;
-    hourglass_work_ += fe.hourglass;
-    viscous_work_ += fe.viscous;
+  const FeStepSums fe =
+      m.has_adaptive
+          ? compute_fe_forces(m.nodes, m.elements, m.materials, p, conversion_criterion(m),
+                              conversion_pending_, conversion_candidates_)
+          : compute_fe_forces(m.nodes, m.elements, m.materials, p);
+  if (fe.flagged > 0.0) conversion_flagged_ = true;
+  return fe;
+}
+
+BondStepResult Simulation::bond_forces(double dt) {
+  Model& m = model_;
+  // Bonds work once a cell has converted.
+  if (m.bonds.count == 0 || m.converted_count == 0) return {};
+  ProfilingRegion region("fracta::bond_forces");
+  compute_cell_stress(m.converted, m.converted_count, m.lattice_stiffness, m.bond_laws, m.elements,
+                      m.nodes);
+  return compute_bond_forces(m.nodes, m.elements, m.bonds, m.bond_laws, dt);
+}
+
+namespace {
+// Contact needs several bodies or discs: one intact body cannot touch itself.
+bool contact_possible(const Model& m) {
+  return m.contacts && (m.scene.bodies.size() > 1 || m.converted_count > 0);
+}
+}  // namespace
+
+void Simulation::contact_search() {
+  if (!contact_possible(model_)) return;
+  ProfilingRegion region("fracta::contact_search");
+  model_.contacts->update(model_.nodes);
+}
+
+ContactPhaseSums Simulation::contact_forces(double dt) {
+  Model& m = model_;
+  if (!contact_possible(m)) return {0.0, ledger_.energy.contact_elastic, ledger_.counts.touching};
+  ProfilingRegion region("fracta::contact_forces");
+  if (contact_force_.extent(0) != static_cast<size_t>(m.nodes.count)) {
+    contact_force_ = View<double* [3]>("fracta::contact_force", m.nodes.count);
+    contact_force_prev_ = View<double* [3]>("fracta::contact_force_prev", m.nodes.count);
   }
-  // Model only what the scene holds now: bonds work once a cell has converted, and contact
-  // needs several bodies or discs (one intact body cannot touch itself).
-  if (m.bonds.count > 0 && m.converted_count > 0) {
-    ProfilingRegion region("fracta::bond_forces");
-    compute_cell_stress(m.converted, m.converted_count, m.lattice_stiffness, m.bond_laws,
-                        m.elements, m.nodes);
-    const BondStepResult r = compute_bond_forces(m.nodes, m.elements, m.bonds, m.bond_laws, dt);
-    fracture_energy_ += r.fracture_energy;
-    broken_bonds_ += r.broken;
+  // The contact's own forces are the change it makes to the accumulators (fx, fy, moment).
+  const auto discs = m.contacts->discs();
+  store_forces_before(m.nodes, discs, contact_force_);
+  const ContactStepResult r = m.contacts->compute_forces(m.nodes, m.topology, dt);
+  // Work of the contact forces over the step by the trapezoidal rule with v(n+1/2), the rule
+  // under which central differences balance energy (as the external work).
+  const double work =
+      store_forces_after_and_work(m.nodes, discs, contact_force_prev_, contact_force_, dt);
+  std::swap(contact_force_, contact_force_prev_);
+  return {work, r.elastic_energy, r.touching};
+}
+
+void Simulation::kick(bool defer) {
+  Model& m = model_;
+  last_dt_ = ledger_.clock.dt;
+  if (defer && m.rigid.empty()) {
+    kick_pending_ = true;
+  } else {
+    ProfilingRegion integrate("fracta::integrate");
+    ledger_.energy.external += fracta::kick(m.nodes, last_dt_);
   }
-  if (m.contacts && (m.scene.bodies.size() > 1 || m.converted_count > 0)) {
-    {
-      ProfilingRegion region("fracta::contact_search");
-      m.contacts->update(m.nodes);
-    }
-    ProfilingRegion region("fracta::contact_forces");
-    if (contact_force_.extent(0) != static_cast<size_t>(m.nodes.count)) {
-      contact_force_ = View<double* [3]>("fracta::contact_force", m.nodes.count);
-      contact_force_prev_ = View<double* [3]>("fracta::contact_force_prev", m.nodes.count);
-    }
-    // The contact's own forces are the change it makes to the accumulators (fx, fy, moment).
-    const auto discs = m.contacts->discs();
-    store_forces_before(m.nodes, discs, contact_force_);
-    const ContactStepResult r = m.contacts->compute_forces(m.nodes, m.topology, dt);
-    // Work of the contact forces over the step by the trapezoidal rule with v(n+1/2), the rule
-    // under which central differences balance energy (as the external work): what the contact
-    // did not store as elastic energy it dissipated (damping, friction, clamping).
-    const double work =
-        store_forces_after_and_work(m.nodes, discs, contact_force_prev_, contact_force_, dt);
-    if (dt > 0.0) contact_dissipated_ += -work - (r.elastic_energy - contact_elastic_);
-    contact_elastic_ = r.elastic_energy;
-    touching_ = r.touching;
-    std::swap(contact_force_, contact_force_prev_);
-  }
-  // A negative FE bound flags an inverted element; keep it negative.
-  return bound < 0.0 ? bound : std::min(bound, bond_dt_bound_);
+  for (RigidBody& b : m.rigid) project_rigid(b, m.nodes);
 }
 
 void Simulation::convert() {
+  const Model& m = model_;
+  if (!m.has_adaptive || (ledger_.clock.steps + 1) % m.scene.sim.conversion_interval != 0) return;
   // The new particles become contact discs after the conversion phase: inserting them into the
   // candidate list (or rebuilding it at the next update) is the contact search's phase.
   if (convert_cells() && model_.contacts) model_.contacts->refresh_discs(model_.nodes);
@@ -208,8 +326,8 @@ void Simulation::convert() {
 
 bool Simulation::convert_cells() {
   // No element flagged since the last look (the FE reduction says so): not even the counter's
-  // copy to the host (item 5: an adaptive run in which nothing converts costs what pure FE does).
-  conversions_this_step_ = 0;
+  // copy to the host, so an adaptive run in which nothing converts costs what pure FE does.
+  ledger_.counts.conversions_this_step = 0;
   if (!conversion_flagged_) return false;
   conversion_flagged_ = false;
   int pending = 0;
@@ -239,7 +357,7 @@ bool Simulation::convert_cells() {
     n = compact_converted(m.elements, m.element_adaptive, m.materials, on_tension, m.new_cells,
                           m.active_scratch, conversion_flag_, conversion_position_);
   }
-  conversions_this_step_ = n;
+  ledger_.counts.conversions_this_step = n;
   if (n == 0) return false;
   // The conversion works on the full step. A deferred second half kick stays pending (the whole
   // node sweep that finishing it costs is most of a conversion step's integration): the
@@ -275,24 +393,27 @@ bool Simulation::convert_cells() {
       Kokkos::subview(m.converted, std::make_pair(m.converted_count, m.converted_count + n)),
       Kokkos::subview(m.new_cells, std::make_pair(0, n)));
   m.converted_count += n;
-  conversions_ += n;
+  ledger_.counts.conversions += n;
   // Energy the conversion takes out (element strain energy) less what it puts in (bond energy,
-  // and the spin given to new discs): reported, not hidden (DESIGN.md 1.3). Negative when the
-  // conversion adds energy.
+  // and the spin given to new discs): reported, not hidden (docs/physics.md 1.3). Negative when
+  // the conversion adds energy.
   const LatticeTotals after = lattice_totals(m.nodes, m.bonds, 0.0);
-  conversion_energy_ += element_energy - (after.bond_elastic - before.bond_elastic) -
-                        (after.rotational_kinetic - before.rotational_kinetic);
-  bond_dt_bound_ = bond_stable_dt(m.nodes, m.bonds, m.topology, 6, stable_dt_);
-  dt_bound_ = std::min(dt_bound_, bond_dt_bound_);
-  dt_ = next_dt();
+  ledger_.energy.conversion += element_energy - (after.bond_elastic - before.bond_elastic) -
+                               (after.rotational_kinetic - before.rotational_kinetic);
+  // The new bonds stiffen the lattice: its bound, and so the step, can only go down.
+  StableStep& bounds = ledger_.bounds;
+  bounds.lattice = bond_stable_dt(m.nodes, m.bonds, m.topology, 6, stable_dt_);
+  bounds.step = std::min(bounds.step, bounds.lattice);
+  ledger_.clock.dt = next_dt();
   return true;
 }
 
 double Simulation::next_dt() const {
-  const Case& c = model_.scene;
-  double dt = c.sim.dt > 0.0 ? c.sim.dt : c.sim.dt_safety * dt_bound_;
+  const SimulationParams& sim = model_.scene.sim;
+  const double time = ledger_.clock.time;
+  double dt = sim.dt > 0.0 ? sim.dt : sim.dt_safety * ledger_.bounds.step;
   // Land exactly on end_time.
-  if (time_ + dt > c.sim.end_time) dt = std::max(c.sim.end_time - time_, 0.0);
+  if (time + dt > sim.end_time) dt = std::max(sim.end_time - time, 0.0);
   return dt;
 }
 
@@ -304,81 +425,40 @@ void Simulation::locate_scatter_chunks() {
 void Simulation::finish_kick() {
   if (!kick_pending_) return;
   ProfilingRegion integrate("fracta::integrate");
-  external_work_ += kick(model_.nodes, last_dt_);
+  ledger_.energy.external += fracta::kick(model_.nodes, last_dt_);
   kick_pending_ = false;
-}
-
-void Simulation::step(bool defer_kick) {
-  if (failed()) return;
-  const Case& c = model_.scene;
-  Model& m = model_;
-  ProfilingRegion region("fracta::step");
-  {
-    ProfilingRegion integrate("fracta::integrate");
-    external_work_ +=
-        kick_pending_ ? kick_kick_drift(m.nodes, last_dt_, dt_) : kick_drift(m.nodes, dt_);
-    kick_pending_ = false;
-  }
-  for (RigidBody& b : m.rigid) {
-    project_rigid(b, m.nodes);
-    drift_rigid(b, m.nodes, m.rigid_offset, dt_);
-    write_rigid_velocity(b, m.nodes);
-  }
-  time_ += dt_;
-  apply_loads(m.nodes, m.tables, m.pressure_edges, m.nodal_forces, c.sim.thickness, time_);
-  dt_bound_ = evaluate_forces(dt_);
-  last_dt_ = dt_;
-  if (defer_kick && m.rigid.empty()) {
-    kick_pending_ = true;
-  } else {
-    ProfilingRegion integrate("fracta::integrate");
-    external_work_ += kick(m.nodes, dt_);
-  }
-  for (RigidBody& b : m.rigid) project_rigid(b, m.nodes);
-  if (m.has_adaptive && (steps_ + 1) % c.sim.conversion_interval == 0) convert();
-  ++steps_;
-
-  if (!(dt_bound_ > 0.0)) {
-    failure_ = "an element inverted or became non-finite at step " + std::to_string(steps_);
-    return;
-  }
-  if (c.sim.dt <= 0.0 && c.sim.dt_safety * dt_bound_ < 1e-6 * dt_initial_) {
-    failure_ = "time step collapsed below 1e-6 of its initial value";
-    return;
-  }
-  dt_ = next_dt();
 }
 
 HistoryRecord Simulation::history() {
   finish_kick();
+  const SimulationParams& sim = model_.scene.sim;
+  const EnergyLedger& e = ledger_.energy;
   HistoryRecord r;
-  r.time = time_;
-  r.dt = dt_;
-  r.step = steps_;
+  r.time = ledger_.clock.time;
+  r.dt = ledger_.clock.dt;
+  r.step = ledger_.clock.steps;
   // The nominal step (not the last one shortened to land on end_time).
-  const double dt_nominal =
-      model_.scene.sim.dt > 0 ? model_.scene.sim.dt : model_.scene.sim.dt_safety * dt_bound_;
+  const double dt_nominal = sim.dt > 0 ? sim.dt : sim.dt_safety * ledger_.bounds.step;
   const NodeTotals nt = node_totals(model_.nodes, dt_nominal);
   const ElementTotals et = element_totals(model_.elements);
   const LatticeTotals lt = lattice_totals(model_.nodes, model_.bonds, dt_nominal);
   r.energy.kinetic = nt.kinetic + lt.rotational_kinetic;
-  r.energy.internal = et.internal + lt.bond_elastic + contact_elastic_;
-  r.energy.contact = contact_dissipated_;
-  r.energy.conversion = conversion_energy_;
-  r.energy.plastic = element_plastic_work_ + lt.bond_plastic;
-  r.energy.fracture = fracture_energy_;
-  r.energy.hourglass = hourglass_work_;
-  r.energy.viscous = viscous_work_;
-  r.energy.external = external_work_;
+  r.energy.internal = et.internal + lt.bond_elastic + e.contact_elastic;
+  r.energy.contact = e.contact_dissipated;
+  r.energy.conversion = e.conversion;
+  r.energy.plastic = e.element_plastic + lt.bond_plastic;
+  r.energy.fracture = e.fracture;
+  r.energy.hourglass = e.hourglass;
+  r.energy.viscous = e.viscous;
+  r.energy.external = e.external;
   r.energy.time_discretization = nt.time_discretization + lt.rotational_time_discretization;
   const double dissipated = r.energy.plastic + r.energy.hourglass + r.energy.viscous +
                             r.energy.contact + r.energy.fracture + r.energy.conversion;
   const double balance = r.energy.kinetic + r.energy.time_discretization + r.energy.internal +
-                         dissipated - external_work_ - initial_energy_;
+                         dissipated - e.external - e.initial;
   // Relative to the energy in play, but never below a floor of 1e-12 M c^2 (M the total mass,
   // c the fastest wave speed): a body at rest holds round-off energies whose ratios mean nothing.
-  const double scale =
-      std::max({external_work_ + initial_energy_, r.energy.kinetic, energy_floor_});
+  const double scale = std::max({e.external + e.initial, r.energy.kinetic, e.floor});
   r.energy.error = scale > 0.0 ? std::fabs(balance) / scale : 0.0;
   r.mass = nt.mass;
   r.momentum_x = nt.momentum_x;
@@ -387,16 +467,17 @@ HistoryRecord Simulation::history() {
   r.count.particles = lt.particles;
   r.count.composite = lt.composite;
   r.count.bonds = lt.active_bonds;
-  r.count.broken_bonds = broken_bonds_;
-  r.count.contacts = touching_;
-  r.count.conversions = conversions_this_step_;
+  r.count.broken_bonds = ledger_.counts.broken_bonds;
+  r.count.contacts = ledger_.counts.touching;
+  r.count.conversions = ledger_.counts.conversions;  // cumulative, like broken_bonds
+  const long steps = ledger_.clock.steps;
   if (!std::isfinite(nt.kinetic) || !std::isfinite(et.internal))
-    failure_ = "non-finite energy at step " + std::to_string(steps_);
-  else if (scale > 0.0 && steps_ > 10 && r.energy.error > model_.scene.sim.energy_error_limit) {
+    failure_ = "non-finite energy at step " + std::to_string(steps);
+  else if (scale > 0.0 && steps > 10 && r.energy.error > sim.energy_error_limit) {
     std::ostringstream msg;
     msg << "energy error " << r.energy.error
-        << " exceeds simulation.energy_error_limit = " << model_.scene.sim.energy_error_limit
-        << " at step " << steps_ << " (instability?)";
+        << " exceeds simulation.energy_error_limit = " << sim.energy_error_limit << " at step "
+        << steps << " (instability?)";
     failure_ = msg.str();
   }
   return r;
@@ -426,7 +507,7 @@ std::vector<ProbeRecord> Simulation::probe_records() {
       ProbeGather{model_.nodes, model_.elements, probe_node_, probe_element_, values});
   auto vh = Kokkos::create_mirror_view_and_copy(HostSpace(), values);
   for (size_t k = 0; k < sites.size(); ++k)
-    out[k] = {time_, vh(k, 0), vh(k, 1), vh(k, 2), vh(k, 3), vh(k, 4), vh(k, 5), vh(k, 6)};
+    out[k] = {time(), vh(k, 0), vh(k, 1), vh(k, 2), vh(k, 3), vh(k, 4), vh(k, 5), vh(k, 6)};
   return out;
 }
 
@@ -436,7 +517,7 @@ std::vector<BodyProbeRecord> Simulation::body_probe_records() {
   for (const auto& bp : model_.body_probes) {
     const Sums<5> s = body_sums(model_.nodes, bp.node_begin, bp.node_end);
     const double m = s.v[0] > 0 ? s.v[0] : 1.0;
-    out.push_back({time_, s.v[1] / m, s.v[2] / m, s.v[3] / m, s.v[4] / m});
+    out.push_back({time(), s.v[1] / m, s.v[2] / m, s.v[3] / m, s.v[4] / m});
   }
   return out;
 }
@@ -444,8 +525,8 @@ std::vector<BodyProbeRecord> Simulation::body_probe_records() {
 FrameData Simulation::frame(const std::vector<std::string>& fields) {
   finish_kick();
   FrameData f;
-  f.time = time_;
-  f.step = steps_;
+  f.time = time();
+  f.step = steps();
   f.fields = fields;
   const Nodes& n = model_.nodes;
   const Elements& el = model_.elements;
@@ -530,8 +611,8 @@ StateViews Simulation::state_views() {
 
 void Simulation::save_snapshot() {
   finish_kick();
-  const bool first = snapshot_.steps < 0;
   StateViews live = state_views();
+  const bool first = !snapshot_.taken;
   if (first) snapshot_.views = live;
   for_each_state_view(live, snapshot_.views, [first](const char*, const auto& from, auto& saved) {
     if (first)
@@ -539,26 +620,10 @@ void Simulation::save_snapshot() {
     else
       Kokkos::deep_copy(saved, from);
   });
-  snapshot_.time = time_;
-  snapshot_.dt = dt_;
-  snapshot_.dt_bound = dt_bound_;
-  snapshot_.external_work = external_work_;
-  snapshot_.fracture_energy = fracture_energy_;
-  snapshot_.contact_dissipated = contact_dissipated_;
-  snapshot_.contact_elastic = contact_elastic_;
-  snapshot_.element_plastic_work = element_plastic_work_;
-  snapshot_.hourglass_work = hourglass_work_;
-  snapshot_.viscous_work = viscous_work_;
-  snapshot_.conversion_energy = conversion_energy_;
-  snapshot_.converted_count = model_.converted_count;
-  snapshot_.conversions = conversions_;
+  snapshot_.ledger = ledger_;
+  snapshot_.lists = ListCounts::of(model_);
   snapshot_.rigid = model_.rigid;
-  snapshot_.broken_bonds = broken_bonds_;
-  snapshot_.touching = touching_;
-  snapshot_.active_elements = model_.elements.active_count;
-  snapshot_.used_bonds = model_.bonds.used_count;
-  snapshot_.particles = model_.nodes.particle_count;
-  snapshot_.steps = steps_;
+  snapshot_.taken = true;
 }
 
 void Simulation::restore_snapshot() {
@@ -568,32 +633,17 @@ void Simulation::restore_snapshot() {
   for_each_state_view(live, snapshot_.views, [](const char*, const auto& to, const auto& saved) {
     Kokkos::deep_copy(to, saved);
   });
-  time_ = snapshot_.time;
-  dt_ = snapshot_.dt;
-  dt_bound_ = snapshot_.dt_bound;
-  external_work_ = snapshot_.external_work;
-  fracture_energy_ = snapshot_.fracture_energy;
-  contact_dissipated_ = snapshot_.contact_dissipated;
-  contact_elastic_ = snapshot_.contact_elastic;
-  element_plastic_work_ = snapshot_.element_plastic_work;
-  hourglass_work_ = snapshot_.hourglass_work;
-  viscous_work_ = snapshot_.viscous_work;
-  conversion_energy_ = snapshot_.conversion_energy;
-  model_.converted_count = snapshot_.converted_count;
-  conversions_ = snapshot_.conversions;
+  ledger_ = snapshot_.ledger;
+  snapshot_.lists.apply_to(model_);
   model_.rigid = snapshot_.rigid;
-  if (model_.contacts) model_.contacts->invalidate();
-  broken_bonds_ = snapshot_.broken_bonds;
-  touching_ = snapshot_.touching;
-  model_.elements.active_count = snapshot_.active_elements;
-  model_.bonds.used_count = snapshot_.used_bonds;
-  model_.nodes.particle_count = snapshot_.particles;
-  if (model_.contacts) model_.contacts->refresh_discs(model_.nodes);  // the snapshot's particles
+  if (model_.contacts) {
+    model_.contacts->invalidate();
+    model_.contacts->refresh_discs(model_.nodes);  // the snapshot's particles
+  }
   locate_scatter_chunks();
   // Flags of the abandoned steps name positions in another active list: drop them (the next
   // force evaluation flags the restored state).
   Kokkos::deep_copy(conversion_pending_, 0);
-  steps_ = snapshot_.steps;
 }
 
 RunInfo run_info(const Case& c) {
@@ -649,7 +699,7 @@ int run_case(const Case& c, const RunOptions& opt) {
   const double end = c.sim.end_time;
   const double eps = 1e-12 * end;
   const double frame_every = c.sim.output_interval > 0 ? c.sim.output_interval : end;
-  const double history_every = c.sim.history_interval;
+  const double history_every = history_every_for(c.sim);
   const double checkpoint_every = c.output.checkpoint_interval;
   // Output instants: k * interval, accumulated by repeated addition. A restart replays the
   // additions up to its time, so it lands on the very same instants as the uninterrupted run.
@@ -746,9 +796,9 @@ int run_case(const Case& c, const RunOptions& opt) {
     std::fprintf(stderr,
                  "fracta: interrupted by %s at t = %.6g s (step %ld)\nfracta: wrote the checkpoint "
                  "%s and the output %s (%d frames, the last one is this state)\nfracta: continue "
-                 "with: fracta run %s --restart %s\n",
+                 "with: %s\n",
                  name, sim.time(), sim.steps(), checkpoint_path.c_str(), path.c_str(),
-                 out.frames_written(), c.path.c_str(), checkpoint_path.c_str());
+                 out.frames_written(), restart_command(c, checkpoint_path).c_str());
     return 128 + signal;
   }
   progress(true);

@@ -1,9 +1,11 @@
-// The solver loop (DESIGN.md 1.4): one Simulation owns a Model and advances it step by step.
-// A step reads like the method: kick_drift -> loads -> fe_forces -> kick.
+// The solver loop (docs/physics.md 1.4 and 2): one Simulation owns a Model and advances it step
+// by step. A step reads like the method: kick-drift, loads, element forces, bond forces, contact
+// search, contact forces, kick, conversion.
 #pragma once
 #include <string>
 #include <vector>
 
+#include "host/ledger.hpp"
 #include "host/model.hpp"
 #include "host/output.hpp"
 #include "host/state_views.hpp"
@@ -26,12 +28,13 @@ class Simulation {
   bool failed() const { return !failure_.empty(); }
   const std::string& failure() const { return failure_; }
 
-  double time() const { return time_; }
-  double dt() const { return dt_; }
-  long steps() const { return steps_; }
-  long conversions() const { return conversions_; }
-  double stable_dt_bound() const { return dt_bound_; }            // before the safety factor (s)
-  double bond_stable_dt_bound() const { return bond_dt_bound_; }  // the bond network's (s)
+  const Ledger& ledger() const { return ledger_; }
+  double time() const { return ledger_.clock.time; }
+  double dt() const { return ledger_.clock.dt; }
+  long steps() const { return ledger_.clock.steps; }
+  long conversions() const { return ledger_.counts.conversions; }
+  double stable_dt_bound() const { return ledger_.bounds.step; }  // before the safety factor (s)
+  double bond_stable_dt_bound() const { return ledger_.bounds.lattice; }  // the lattice's (s)
   // Per-particle Gershgorin bounds as the last conversion cached them (tests).
   const StableDtWorkspace& bond_stable_dt_workspace() const { return stable_dt_; }
 
@@ -57,10 +60,20 @@ class Simulation {
   // The live views of the state a step mutates (state_views.hpp).
   StateViews state_views();
   double next_dt() const;
-  // Zeroed forces in, all internal forces out (FE, bonds); returns the stable bound (s).
-  double evaluate_forces(double dt);
-  // Converts the adaptive elements that reached their conversion criterion (DESIGN.md 1.3).
-  void convert();
+
+  // The phases of a step, in the order step() runs them (docs/physics.md 2). Each force phase
+  // adds into the node accumulators and returns its sums; a phase the scene cannot need (bonds
+  // before any conversion, contact within one intact body) does nothing.
+  void kick_drift();                           // v(n+1/2), x(n+1); rigid bodies drift
+  void apply_loads();                          // f_ext at the new time
+  FeStepSums element_forces(double dt);        // flags elements that meet their criterion
+  BondStepResult bond_forces(double dt);       // cell stresses, bond laws, failure
+  void contact_search();                       // candidate pairs (Verlet list)
+  ContactPhaseSums contact_forces(double dt);  // disc contact law on the candidates
+  void kick(bool defer);                       // v(n+1), or left pending (defer)
+  void convert();                              // cells that met their criterion become discs
+  // The force phases at dt = 0 (the constructor): f(0) and the first stable bound.
+  void initial_forces();
   // The conversion phase of convert(); returns whether cells converted.
   bool convert_cells();
   // After the active or bond list changed (conversion, restore): the force scatter's chunks
@@ -68,15 +81,7 @@ class Simulation {
   void locate_scatter_chunks();
 
   Model model_;
-  double time_ = 0.0, dt_ = 0.0, dt_bound_ = 0.0, dt_initial_ = 0.0;
-  long steps_ = 0;
-  double external_work_ = 0.0, initial_energy_ = 0.0;
-  double bond_dt_bound_ = 1e300, fracture_energy_ = 0.0, energy_floor_ = 0.0;
-  long broken_bonds_ = 0, touching_ = 0;
-  double contact_elastic_ = 0.0, contact_dissipated_ = 0.0, conversion_energy_ = 0.0;
-  // Work the elements dissipated since t = 0 (J), summed per step (FeStepSums).
-  double element_plastic_work_ = 0.0, hourglass_work_ = 0.0, viscous_work_ = 0.0;
-  long conversions_ = 0, conversions_this_step_ = 0;
+  Ledger ledger_;
   bool kick_pending_ = false;  // step(true) left its second half kick (of last_dt_) to do
   double last_dt_ = 0.0;       // the last step's dt (s)
   std::string failure_;
@@ -90,22 +95,19 @@ class Simulation {
   View<int> conversion_pending_{"fracta::conversion_pending"};
   View<int*> conversion_candidates_{"fracta::conversion_candidates", ListWorkspace::kCapacity};
   View<int*> conversion_flag_, conversion_position_;  // compact_converted's work space
-  // An FE evaluation (evaluate_forces, the only writer of conversion_pending_) flagged elements
+  // An FE evaluation (element_forces, the only writer of conversion_pending_) flagged elements
   // since convert_cells last read the counter. May stay true after a restore zeroes the counter:
   // reading a zero counter is only slower.
   bool conversion_flagged_ = false;
 
+  // The last good state: the views a step mutates, the ledger, the list lengths and the rigid
+  // bodies (taken after the kick is finished).
   struct Snapshot {
     StateViews views;
-    double time = 0, dt = 0, dt_bound = 0, external_work = 0, fracture_energy = 0;
-    double contact_dissipated = 0, contact_elastic = 0, conversion_energy = 0;
-    double element_plastic_work = 0, hourglass_work = 0, viscous_work = 0;
-    int converted_count = 0;
-    long conversions = 0;
+    Ledger ledger;
+    ListCounts lists;
     std::vector<RigidBody> rigid;
-    long broken_bonds = 0, steps = -1, touching = 0;
-    int active_elements = 0;
-    int used_bonds = 0, particles = 0;  // list counts (Bonds::used, Nodes::particle_list)
+    bool taken = false;
   } snapshot_;
 };
 
@@ -121,6 +123,17 @@ struct RunOptions {
 // SIGTERM (after writing a checkpoint and a final frame). Throws InputError for bad input
 // (including an unreadable or incompatible restart checkpoint).
 int run_case(const Case& c, const RunOptions& opt);
+
+// The history interval a run uses (s): simulation.history_interval, or when it is 0 (the
+// default) end_time / kHistoryRows, so that a run's history keeps about that many rows.
+// Recording a row costs a pass over every node, bond and element: every step would cost a large
+// disc run about a fifth of its time.
+inline constexpr double kHistoryRows = 1000.0;
+double history_every_for(const SimulationParams& sim);
+
+// The command that continues a run of case c from its checkpoint, with the run's --set
+// overrides (a restart must repeat them), quoted for a POSIX shell.
+std::string restart_command(const Case& c, const std::string& checkpoint_path);
 
 // The /run attributes of an output file of case c written by this build and backend.
 RunInfo run_info(const Case& c);

@@ -226,11 +226,11 @@ void expect_bitwise_restart(const std::string& name, const std::string& sets) {
   const auto conversions = doubles(u.id, "/history/count/conversions");
   const auto broken = doubles(u.id, "/history/count/broken_bonds");
   const auto contacts = doubles(u.id, "/history/count/contacts");
-  double before = 0, after = 0, touching_after = 0;
-  for (size_t s = 0; s < conversions.size(); ++s) {
-    (static_cast<long>(s) <= r.k ? before : after) += conversions[s];
-    if (static_cast<long>(s) > r.k) touching_after = std::max(touching_after, contacts[s]);
-  }
+  // conversions and broken_bonds are cumulative counts.
+  const double before = conversions[r.k], after = conversions.back() - conversions[r.k];
+  double touching_after = 0;
+  for (size_t s = r.k + 1; s < contacts.size(); ++s)
+    touching_after = std::max(touching_after, contacts[s]);
   EXPECT_GT(before, 0);
   EXPECT_GT(after, 0);
   EXPECT_GT(broken.back(), broken[r.k]);
@@ -459,6 +459,11 @@ TEST(Checkpoint, SigintAndSigtermWriteACheckpointAndACompleteOutput) {
     EXPECT_EQ(WEXITSTATUS(status), code) << log;
     EXPECT_NE(log.find(std::string("interrupted by ") + name), std::string::npos) << log;
     EXPECT_NE(log.find(checkpoint), std::string::npos) << log;
+    // The printed restart command repeats the run's overrides.
+    EXPECT_NE(log.find("continue with: fracta run " + kScene + " --restart " + checkpoint +
+                       " --set simulation.end_time=1e-3\n"),
+              std::string::npos)
+        << log;
 
     // The output is closed and complete: status, frames, and its last frame is the state the
     // checkpoint holds (same time, same step).
@@ -508,7 +513,7 @@ TEST(Checkpoint, SigkillLeavesAReadableOutputWithEveryListedFrame) {
                                   "--set",
                                   "simulation.end_time=1e-3",
                                   "simulation.output_interval=1e-9",
-                                  "simulation.history_interval=0",
+                                  "simulation.history_interval=1e-9",  // below dt: every step
                                   "output.checkpoint_interval=0"};
     ASSERT_TRUE(kill_run_after(args, out, delay_ms, out + ".log"));
 

@@ -110,6 +110,22 @@ TEST(Cli, NumericalFailureExitsWithCode3AndKeepsLastGoodFrame) {
   H5Fclose(f);
 }
 
+// `fracta --help` is fracta's help (Kokkos answers a bare --help with its own option list
+// unless it is kept from it); a subcommand's help is that subcommand's.
+TEST(Cli, HelpIsFractasOwn) {
+  for (const char* args : {"--help", "-h", "run --help", "check -h"}) {
+    const Result r = run(args);
+    EXPECT_EQ(r.code, 0) << args << "\n" << r.out;
+    EXPECT_EQ(r.out.find("Kokkos command line arguments"), std::string::npos) << args << r.out;
+    EXPECT_NE(r.out.find("fracta"), std::string::npos) << args << r.out;
+    EXPECT_NE(r.out.find("Usage:"), std::string::npos) << args << r.out;
+  }
+  EXPECT_NE(run("--help").out.find("Exit codes"), std::string::npos);
+  EXPECT_NE(run("run --help").out.find("--restart"), std::string::npos);
+  // Kokkos' own options are still read.
+  EXPECT_EQ(run("info --kokkos-threads=1").code, 0);
+}
+
 TEST(Cli, PlateCaseRunsAndInfoPrintsBackend) {
   const Result info = run("info");
   EXPECT_EQ(info.code, 0);

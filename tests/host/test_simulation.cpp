@@ -174,6 +174,83 @@ TEST(Simulation, TwoRunsOfAShatteringLatticeAreBitwiseTheSame) {
   EXPECT_GT(h.count.contacts, 50);
 }
 
+// /history/count/conversions counts every conversion since t = 0, whatever the history
+// interval: the impact slab converts over many steps with no history row in between.
+TEST(Simulation, HistoryCountsEveryConversionSinceTheStart) {
+  Simulation sim(test::impact_case(500.0));
+  const long active_at_start = sim.history().count.elements;
+  int steps_converting = 0;
+  for (int s = 0; s < 400 && (sim.conversions() < 20 || steps_converting < 3); ++s) {
+    const long before = sim.conversions();
+    sim.step(true);
+    if (sim.conversions() > before) ++steps_converting;
+  }
+  ASSERT_GE(steps_converting, 3);  // so no single step's count is the total
+  const HistoryRecord h = sim.history();
+  EXPECT_EQ(h.count.conversions, sim.conversions());
+  // Conversion is the only way an element leaves the active list.
+  EXPECT_EQ(h.count.conversions, active_at_start - h.count.elements);
+}
+
+// The failure snapshot restores the whole state, the ledger included: a run that saves at step
+// k, steps on through conversions (which add bonds and so lower the lattice's stable-step bound),
+// restores and steps again repeats, bitwise, the run that never went on. Without the lattice
+// bound in the snapshot, the restored run kept the lower bound of the abandoned steps, and so a
+// shorter step.
+TEST(Simulation, RestoreAfterConversionsIsExact) {
+  const Case c = test::impact_case(500.0);
+  Simulation reference(c), detour(c);
+  for (Simulation* sim : {&reference, &detour}) {
+    for (int s = 0; s < 400 && sim->conversions() < 10; ++s) sim->step(true);
+    ASSERT_GE(sim->conversions(), 10);
+    sim->save_snapshot();
+  }
+  const long conversions_saved = detour.conversions();
+  const double lattice_bound_saved = detour.bond_stable_dt_bound();
+  for (int s = 0; s < 60; ++s) detour.step(true);
+  ASSERT_GT(detour.conversions(), conversions_saved + 5);
+  ASSERT_LT(detour.bond_stable_dt_bound(), lattice_bound_saved);  // the detour changed the bound
+  detour.restore_snapshot();
+  EXPECT_EQ(detour.bond_stable_dt_bound(), lattice_bound_saved);
+  EXPECT_EQ(detour.conversions(), conversions_saved);
+  for (int s = 0; s < 60; ++s) {
+    reference.step(true);
+    detour.step(true);
+  }
+  EXPECT_EQ(detour.steps(), reference.steps());
+  EXPECT_EQ(detour.time(), reference.time());
+  EXPECT_EQ(detour.dt(), reference.dt());
+  EXPECT_EQ(detour.conversions(), reference.conversions());
+  EXPECT_GE(test::expect_same_state(reference, detour), 40);
+  const HistoryRecord hr = reference.history(), hd = detour.history();
+  EXPECT_EQ(hd.energy.external, hr.energy.external);
+  EXPECT_EQ(hd.energy.fracture, hr.energy.fracture);
+  EXPECT_EQ(hd.energy.conversion, hr.energy.conversion);
+  EXPECT_EQ(hd.count.broken_bonds, hr.count.broken_bonds);
+}
+
+// A history row per end_time / 1000 unless the case sets an interval.
+TEST(Simulation, HistoryIntervalIsAThousandthOfTheRunUnlessSet) {
+  SimulationParams p;
+  p.end_time = 2e-4;
+  EXPECT_DOUBLE_EQ(history_every_for(p), 2e-7);
+  p.history_interval = 1e-8;
+  EXPECT_EQ(history_every_for(p), 1e-8);
+}
+
+// The restart command printed after a signal repeats the run's --set overrides, quoted for the
+// shell where they need it.
+TEST(Simulation, RestartCommandRepeatsTheOverrides) {
+  Case c;
+  c.path = "cases/penetration.toml";
+  EXPECT_EQ(restart_command(c, "out.ckpt.h5"),
+            "fracta run cases/penetration.toml --restart out.ckpt.h5");
+  c.overrides = {"simulation.end_time=5e-6", "simulation.title=two words", "body.slab.x=it's"};
+  EXPECT_EQ(restart_command(c, "my run/out.ckpt.h5"),
+            "fracta run cases/penetration.toml --restart 'my run/out.ckpt.h5' --set "
+            "simulation.end_time=5e-6 'simulation.title=two words' 'body.slab.x=it'\\''s'");
+}
+
 // The fused kernel against the two half kicks it replaces, on arbitrary node data; the CPU forms
 // of both (eight nodes as Double8 lanes) against their node-by-node forms too. 54 nodes: six
 // batches of eight and a tail of six, some nodes fixed in x or y.
