@@ -1,12 +1,12 @@
-// The paper's efficiency study (Section 4.2), redone (issue 5, item 2), plus the "model only what
-// a scene requires" measurements of item 5.
+// The paper's efficiency study (Section 4.2), redone, plus the "model only what a scene
+// requires" measurements.
 //
 // Table 3: the 2048-element plate (cases/plate_fe, plate_case_a, plate_case_b, plate_de), 1000
 //   steps each from t = 0, median of `repeats` (default 5) interleaved runs (the paper averages
 //   3), time and ratio to DE only, beside the paper's 300.62 / 587.97 / 563.12 / 1250.94 s
 //   (case A 47.0%, case B 45.0% of DE only). The paper's times are for its own serial code and
 //   machine: compare ratios.
-// Item 5: the same plate run as an `adaptive` body of an elastic material (nothing can convert)
+// Adaptive-capable: the same plate run as an `adaptive` body of an elastic material (nothing can convert)
 //   against the pure FE run: the cost of being adaptive-capable (target: within 5%); and the
 //   phase table of every run, where a scene without contact-capable bodies (plate_fe) shows zero
 //   calls of "fracta::contact_search".

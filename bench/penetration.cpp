@@ -1,4 +1,4 @@
-// The project's throughput benchmark (issue 5, item 1): the penetration scene
+// The project's throughput benchmark: the penetration scene
 // (cases/penetration.toml) at refinement level L, for a fixed number of steps, with a per-phase
 // time split from the named profiling regions. One level per process, so the peak memory
 // (getrusage max RSS) is that level's; bench/run_penetration.sh runs levels 1, 2, 4, 8 with

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Regenerates every benchmark table and plot of issue 5 and the tables of docs/performance.md:
+# Regenerates every benchmark table and plot and the tables of docs/performance.md:
 #   1. bench/run_penetration.sh   throughput, levels 1 2 4 8, 1 and 2 threads
-#   2. bench/paper_efficiency     the paper's Table 3 and Fig. 8, item 5's adaptive/FE ratio and
+#   2. bench/paper_efficiency     the paper's Table 3 and Fig. 8, the adaptive/FE ratio and
 #                                 phase tables, with 1 and 2 threads
 #   3. bench/tradeoff.py          the speed-accuracy studies (1 thread), CSV + PNG
 #   4. bench/update_docs.py       the tables of docs/performance.md

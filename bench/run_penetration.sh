@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The throughput benchmark (issue 5, item 1): bench/penetration at refinement levels 1, 2, 4, 8
+# The throughput benchmark: bench/penetration at refinement levels 1, 2, 4, 8
 # (cell size 0.4 mm / level; level 8 has 1.17e6 nodes), each level in its own process (so the
 # peak RSS is that level's) with OMP_NUM_THREADS=1 and 2. Prints the table and writes
 # bench/results/penetration.{csv,json}.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The speed-accuracy trade, measured (issue 5, item 3). Runs `fracta run` over a grid of
+"""The speed-accuracy trade, measured. Runs `fracta run` over a grid of
 settings (one thread: the accuracy numbers are then bitwise reproducible, atomics add in a fixed
 order), reads the HDF5 output and writes, per study, a CSV and a Pareto plot (error against wall
 time) into the results directory.

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Plots from a fracta output file (DESIGN.md 3.3).
+"""Plots from a fracta output file (docs/output.md).
 
     plot.py OUT.h5 [-o DIR]
         energy.png       every energy term (J) vs time (us), and the relative energy error
@@ -120,7 +120,7 @@ def plot_energy(f, out_dir, title):
     ax.grid(True, alpha=0.3)
     ax.legend(ncol=2, fontsize="small", loc="best")
 
-    # /history/energy/error is already relative (DESIGN.md 1.4):
+    # /history/energy/error is already relative (docs/physics.md 1.4):
     # |balance| / max(E_ext + E_0, E_kin).
     rel = np.abs(e["error"])
     ax_err.plot(t, rel, color="tab:red", lw=1.2)

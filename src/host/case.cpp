@@ -1,4 +1,4 @@
-// Case file reading and validation (DESIGN.md 3.2).
+// Case file reading and validation (docs/case-file.md).
 //
 // The TOML text is parsed with toml++, the --set overrides are applied to the parsed tree, and
 // the tree is then walked by small `Reader`s, one per table, that know the table's dotted key
@@ -680,7 +680,7 @@ Material read_material(const Reader& r, Names& names) {
     m.friction_angle = r.number("friction_angle", Range::ge(0).lt(90)) * kPi / 180.0;
   }
   // Quasi-brittle bonds soften over an opening 2 G_f / sigma_t after reaching the strength
-  // (bond_forces.hpp); bilinear_j2 bonds are elastoplastic instead (DESIGN.md 1.2).
+  // (bond_forces.hpp); bilinear_j2 bonds are elastoplastic instead (docs/physics.md 1.2).
   m.fracture_energy = r.number("fracture_energy", Range::ge(0), 0.0);
   if (m.fracture_energy > 0.0 && !(m.tensile_strength > 0.0))
     r.fail("fracture_energy", "needs a tensile_strength > 0 (the softening starts there)");
@@ -1046,7 +1046,7 @@ Case load_case(const std::string& path, const std::vector<std::string>& override
 
 namespace {
 
-// Keys a restart may change: they do not define the model (DESIGN.md 3.2).
+// Keys a restart may change: they do not define the model (docs/case-file.md).
 bool restart_may_change(const std::string& key) {
   return key == "output" || key == "simulation.end_time" || key == "simulation.output_interval" ||
          key == "simulation.history_interval" || key == "simulation.title";

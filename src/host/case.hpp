@@ -1,4 +1,4 @@
-// The case file (DESIGN.md 3.2): a TOML scene read into plain host structs.
+// The case file (docs/case-file.md): a TOML scene read into plain host structs.
 // Every value is validated here (types, ranges, unknown keys, cross references); the rest of
 // the code trusts a Case. Units are SI throughout (m, s, kg, Pa, N); angles in degrees in the
 // file, radians in the struct where noted.
@@ -184,7 +184,7 @@ Case parse_case(const std::string& text, const std::string& source_name,
 // Refuses (InputError at the first differing key of `now`) a case that does not define the same
 // model as `stored`, the case a checkpoint was written with: both are compared as parsed TOML
 // (with their --set overrides) except what a restart may change, simulation.end_time,
-// output_interval, history_interval, title and the [output] table (DESIGN.md 3.2).
+// output_interval, history_interval, title and the [output] table (docs/case-file.md).
 void check_restart_compatible(const Case& stored, const Case& now);
 
 const char* to_string(Formulation f);

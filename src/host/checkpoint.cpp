@@ -1,7 +1,7 @@
 #include "host/checkpoint.hpp"
 
 #include <fcntl.h>
-#include <hdf5.h>
+#include <hdf5.h>  // host only: the CUDA check skips the files that include it
 #include <unistd.h>
 
 #include <Kokkos_Core.hpp>
@@ -16,6 +16,7 @@
 #include <type_traits>
 
 #include "host/case.hpp"
+#include "host/hdf5.hpp"
 #include "host/simulation.hpp"
 #include "host/state_views.hpp"
 #include "host/text_lines.hpp"
@@ -32,128 +33,12 @@ constexpr const char* kFormat = "fracta checkpoint";
 // 6: the contact's discs are the boundary nodes and the particles (x_build has one row each)
 constexpr std::int64_t kFormatVersion = 7;
 
-// Owns one HDF5 identifier.
-class H5Handle {
- public:
-  H5Handle(hid_t id, herr_t (*close)(hid_t), const std::string& what) : id_(id), close_(close) {
-    if (id_ < 0) throw std::runtime_error(what);
-  }
-  ~H5Handle() {
-    if (id_ >= 0) close_(id_);
-  }
-  H5Handle(const H5Handle&) = delete;
-  H5Handle& operator=(const H5Handle&) = delete;
-  hid_t get() const { return id_; }
-  // Closes now and reports failure (a close is where HDF5 writes the last metadata).
-  void close(const std::string& what) {
-    const herr_t rc = close_(id_);
-    id_ = H5I_INVALID_HID;
-    if (rc < 0) throw std::runtime_error(what);
-  }
+using h5::Handle;
 
- private:
-  hid_t id_;
-  herr_t (*close_)(hid_t);
-};
-
-void check(herr_t rc, const std::string& what) {
-  if (rc < 0) throw std::runtime_error(what);
-}
-
-template <class T>
-hid_t mem_type() {
-  if constexpr (std::is_same_v<T, double>) return H5T_NATIVE_DOUBLE;
-  if constexpr (std::is_same_v<T, int>) return H5T_NATIVE_INT;
-  if constexpr (std::is_same_v<T, std::int64_t>) return H5T_NATIVE_INT64;
-}
-
-template <class T>
-hid_t file_type() {
-  if constexpr (std::is_same_v<T, double>) return H5T_IEEE_F64LE;
-  if constexpr (std::is_same_v<T, int>) return H5T_STD_I32LE;
-  if constexpr (std::is_same_v<T, std::int64_t>) return H5T_STD_I64LE;
-}
-
-template <class T>
-void write_attribute(hid_t obj, const char* name, const T& value) {
-  const std::string what = std::string("checkpoint: cannot write attribute ") + name;
-  H5Handle space(H5Screate(H5S_SCALAR), H5Sclose, what);
-  if constexpr (std::is_same_v<T, std::string>) {
-    H5Handle type(H5Tcopy(H5T_C_S1), H5Tclose, what);
-    check(H5Tset_size(type.get(), H5T_VARIABLE), what);
-    check(H5Tset_cset(type.get(), H5T_CSET_UTF8), what);
-    H5Handle attr(H5Acreate2(obj, name, type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
-                  H5Aclose, what);
-    const char* p = value.c_str();
-    check(H5Awrite(attr.get(), type.get(), &p), what);
-  } else {
-    H5Handle attr(H5Acreate2(obj, name, file_type<T>(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
-                  H5Aclose, what);
-    check(H5Awrite(attr.get(), mem_type<T>(), &value), what);
-  }
-}
-
-template <class T>
-T read_attribute(hid_t obj, const char* name) {
-  const std::string what = std::string("cannot read attribute ") + name;
-  H5Handle attr(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose, what);
-  if constexpr (std::is_same_v<T, std::string>) {
-    H5Handle type(H5Tcopy(H5T_C_S1), H5Tclose, what);
-    check(H5Tset_size(type.get(), H5T_VARIABLE), what);
-    check(H5Tset_cset(type.get(), H5T_CSET_UTF8), what);
-    char* p = nullptr;
-    check(H5Aread(attr.get(), type.get(), &p), what);
-    std::string s = p ? p : "";
-    H5free_memory(p);
-    return s;
-  } else {
-    T value{};
-    check(H5Aread(attr.get(), mem_type<T>(), &value), what);
-    return value;
-  }
-}
-
-template <class T>
-void write_dataset(hid_t loc, const std::string& name, const std::vector<hsize_t>& dims,
-                   const std::vector<T>& values) {
-  const std::string what = "checkpoint: cannot write " + name;
-  H5Handle space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose,
-                 what);
-  H5Handle ds(H5Dcreate2(loc, name.c_str(), file_type<T>(), space.get(), H5P_DEFAULT, H5P_DEFAULT,
-                         H5P_DEFAULT),
-              H5Dclose, what);
-  if (!values.empty())
-    check(H5Dwrite(ds.get(), mem_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), what);
-}
-
-// Reads dataset `name`, which must have the shape `dims`.
-template <class T>
-std::vector<T> read_dataset(hid_t loc, const std::string& name, const std::vector<hsize_t>& dims) {
-  const std::string what = "cannot read dataset " + name;
-  if (H5Lexists(loc, name.c_str(), H5P_DEFAULT) <= 0)
-    throw std::runtime_error("dataset " + name + " is missing");
-  H5Handle ds(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), H5Dclose, what);
-  H5Handle space(H5Dget_space(ds.get()), H5Sclose, what);
-  const int rank = H5Sget_simple_extent_ndims(space.get());
-  std::vector<hsize_t> got(rank > 0 ? rank : 0);
-  if (rank < 0 || H5Sget_simple_extent_dims(space.get(), got.data(), nullptr) < 0)
-    throw std::runtime_error(what);
-  if (got != dims) {
-    std::ostringstream msg;
-    msg << "dataset " << name << " has shape (";
-    for (size_t k = 0; k < got.size(); ++k) msg << (k ? ", " : "") << got[k];
-    msg << "), the model needs (";
-    for (size_t k = 0; k < dims.size(); ++k) msg << (k ? ", " : "") << dims[k];
-    msg << ")";
-    throw std::runtime_error(msg.str());
-  }
-  size_t n = 1;
-  for (hsize_t d : dims) n *= d;
-  std::vector<T> values(n);
-  if (n > 0)
-    check(H5Dread(ds.get(), mem_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), what);
-  return values;
-}
+// Writes go through "checkpoint: ..." messages; reads through bare ones, which the callers turn
+// into an InputError naming the file.
+const h5::Io kWrite("checkpoint");
+const h5::Io kRead("");
 
 template <class V>
 std::vector<hsize_t> dims_of(const V& v) {
@@ -177,13 +62,13 @@ void write_view(hid_t loc, const std::string& name, const V& v) {
       for (size_t j = 0; j < h.extent(1); ++j) flat.push_back(h(i, j));
     }
   }
-  write_dataset(loc, name, dims_of(v), flat);
+  kWrite.write_array(loc, name, dims_of(v), flat);
 }
 
 template <class V>
 void read_view(hid_t loc, const std::string& name, const V& v) {
   using T = typename V::non_const_value_type;
-  const std::vector<T> flat = read_dataset<T>(loc, name, dims_of(v));
+  const std::vector<T> flat = kRead.read_array<T>(loc, name, dims_of(v));
   auto h = Kokkos::create_mirror_view(v);
   size_t k = 0;
   for (size_t i = 0; i < h.extent(0); ++i) {
@@ -228,57 +113,53 @@ struct CheckpointIO {
   static void write(Simulation& s, hid_t file) {
     s.finish_kick();
     StateViews live = s.state_views();
-    H5Handle state(H5Gcreate2(file, "state", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
-                   "checkpoint: cannot create /state");
+    const Handle state = kWrite.create_group(file, "state");
     for_each_state_view(live, live, [&](const char* name, const auto& v, const auto&) {
       write_view(state.get(), name, v);
     });
-    H5Handle scalar_group(H5Gcreate2(file, "scalars", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                          H5Gclose, "checkpoint: cannot create /scalars");
+    const Handle scalar_group = kWrite.create_group(file, "scalars");
     ListCounts lists = ListCounts::of(s.model_);
     scalars(s, lists, [&](const char* name, auto& value) {
       using T = std::decay_t<decltype(value)>;
       if constexpr (std::is_same_v<T, double>)
-        write_attribute(scalar_group.get(), name, value);
+        kWrite.write_attribute(scalar_group.get(), name, value);
       else
-        write_attribute(scalar_group.get(), name, static_cast<std::int64_t>(value));
+        kWrite.write_attribute(scalar_group.get(), name, static_cast<std::int64_t>(value));
     });
     std::vector<double> rigid;
     for (const RigidBody& b : s.model_.rigid)
       rigid.insert(rigid.end(), {b.x, b.y, b.theta, b.vx, b.vy, b.omega});
-    write_dataset<double>(file, "rigid", {s.model_.rigid.size(), 6}, rigid);
+    kWrite.write_array<double>(file, "rigid", {s.model_.rigid.size(), 6}, rigid);
     if (s.model_.contacts) {
       const ContactSystem::ListState cs = s.model_.contacts->list_state();
-      H5Handle g(H5Gcreate2(file, "contact", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
-                 "checkpoint: cannot create /contact");
-      write_dataset<int>(g.get(), "pair_i", {cs.pair_i.size()}, cs.pair_i);
-      write_dataset<int>(g.get(), "pair_j", {cs.pair_j.size()}, cs.pair_j);
-      write_dataset<double>(g.get(), "x_build", {cs.x_build.size() / 2, 2}, cs.x_build);
-      write_attribute(g.get(), "built", static_cast<std::int64_t>(cs.built));
-      write_attribute(g.get(), "rebuilds", static_cast<std::int64_t>(cs.rebuilds));
+      const Handle g = kWrite.create_group(file, "contact");
+      kWrite.write_array<int>(g.get(), "pair_i", {cs.pair_i.size()}, cs.pair_i);
+      kWrite.write_array<int>(g.get(), "pair_j", {cs.pair_j.size()}, cs.pair_j);
+      kWrite.write_array<double>(g.get(), "x_build", {cs.x_build.size() / 2, 2}, cs.x_build);
+      kWrite.write_attribute(g.get(), "built", static_cast<std::int64_t>(cs.built));
+      kWrite.write_attribute(g.get(), "rebuilds", static_cast<std::int64_t>(cs.rebuilds));
     }
   }
 
   static void read(Simulation& s, hid_t file) {
     StateViews live = s.state_views();
-    H5Handle state(H5Gopen2(file, "state", H5P_DEFAULT), H5Gclose, "group /state is missing");
+    const Handle state = kRead.open_group(file, "state");
     for_each_state_view(live, live, [&](const char* name, const auto& v, const auto&) {
       read_view(state.get(), name, v);
     });
     s.stable_dt_.invalidate();  // the bonds and radii were replaced
-    H5Handle scalar_group(H5Gopen2(file, "scalars", H5P_DEFAULT), H5Gclose,
-                          "group /scalars is missing");
+    const Handle scalar_group = kRead.open_group(file, "scalars");
     ListCounts lists;
     scalars(s, lists, [&](const char* name, auto& value) {
       using T = std::decay_t<decltype(value)>;
       if constexpr (std::is_same_v<T, double>)
-        value = read_attribute<double>(scalar_group.get(), name);
+        value = kRead.read_attribute<double>(scalar_group.get(), name);
       else
-        value = static_cast<T>(read_attribute<std::int64_t>(scalar_group.get(), name));
+        value = static_cast<T>(kRead.read_attribute<std::int64_t>(scalar_group.get(), name));
     });
     lists.apply_to(s.model_);
     std::vector<RigidBody>& bodies = s.model_.rigid;
-    const std::vector<double> rigid = read_dataset<double>(file, "rigid", {bodies.size(), 6});
+    const std::vector<double> rigid = kRead.read_array<double>(file, "rigid", {bodies.size(), 6});
     for (size_t k = 0; k < bodies.size(); ++k) {
       RigidBody& b = bodies[k];
       const double* r = &rigid[6 * k];
@@ -297,17 +178,15 @@ struct CheckpointIO {
       ContactSystem& contacts = *s.model_.contacts;
       contacts.invalidate();  // the list comes from the checkpoint: nothing to insert into
       contacts.refresh_discs(s.model_.nodes);  // the discs of the restored particles
-      H5Handle g(H5Gopen2(file, "contact", H5P_DEFAULT), H5Gclose, "group /contact is missing");
+      const Handle g = kRead.open_group(file, "contact");
       ContactSystem::ListState cs;
-      H5Handle pairs(H5Dopen2(g.get(), "pair_i", H5P_DEFAULT), H5Dclose, "cannot open pair_i");
-      H5Handle space(H5Dget_space(pairs.get()), H5Sclose, "cannot read pair_i");
-      const hsize_t count = static_cast<hsize_t>(H5Sget_simple_extent_npoints(space.get()));
-      cs.pair_i = read_dataset<int>(g.get(), "pair_i", {count});
-      cs.pair_j = read_dataset<int>(g.get(), "pair_j", {count});
+      const hsize_t count = kRead.size_of(g.get(), "pair_i");
+      cs.pair_i = kRead.read_array<int>(g.get(), "pair_i", {count});
+      cs.pair_j = kRead.read_array<int>(g.get(), "pair_j", {count});
       const hsize_t discs = static_cast<hsize_t>(contacts.disc_count());
-      cs.x_build = read_dataset<double>(g.get(), "x_build", {discs, 2});
-      cs.built = read_attribute<std::int64_t>(g.get(), "built") != 0;
-      cs.rebuilds = static_cast<long>(read_attribute<std::int64_t>(g.get(), "rebuilds"));
+      cs.x_build = kRead.read_array<double>(g.get(), "x_build", {discs, 2});
+      cs.built = kRead.read_attribute<std::int64_t>(g.get(), "built") != 0;
+      cs.rebuilds = static_cast<long>(kRead.read_attribute<std::int64_t>(g.get(), "rebuilds"));
       for (size_t p = 0; p < count; ++p)
         if (cs.pair_i[p] < 0 || cs.pair_j[p] < 0 || cs.pair_i[p] >= s.model_.nodes.count ||
             cs.pair_j[p] >= s.model_.nodes.count)
@@ -331,23 +210,22 @@ std::string checkpoint_path_for(const std::string& output_path) {
 }
 
 void write_checkpoint(Simulation& sim, const std::string& path, const CheckpointInfo& info) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become exceptions, not stderr dumps
+  h5::silence_error_stack();  // errors become exceptions, not stderr dumps
   const std::string tmp = path + ".tmp";
   {
-    H5Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
-                  "checkpoint: cannot create " + tmp);
+    Handle file = kWrite.create_file(tmp, false);
     const hid_t root = file.get();
-    write_attribute(root, "format", std::string(kFormat));
-    write_attribute(root, "format_version", kFormatVersion);
-    write_attribute(root, "version", info.version);
-    write_attribute(root, "case", info.case_text);
-    write_attribute(root, "case_path", info.case_path);
-    write_attribute(root, "overrides", join_lines(info.overrides));
-    write_attribute(root, "output_path", info.output_path);
-    write_attribute(root, "time", info.time);
-    write_attribute(root, "steps", static_cast<std::int64_t>(info.steps));
+    kWrite.write_attribute(root, "format", std::string(kFormat));
+    kWrite.write_attribute(root, "format_version", kFormatVersion);
+    kWrite.write_attribute(root, "version", info.version);
+    kWrite.write_attribute(root, "case", info.case_text);
+    kWrite.write_attribute(root, "case_path", info.case_path);
+    kWrite.write_attribute(root, "overrides", join_lines(info.overrides));
+    kWrite.write_attribute(root, "output_path", info.output_path);
+    kWrite.write_attribute(root, "time", info.time);
+    kWrite.write_attribute(root, "steps", static_cast<std::int64_t>(info.steps));
     CheckpointIO::write(sim, root);
-    file.close("checkpoint: cannot close " + tmp);
+    kWrite.ok(file.close(), "cannot close " + tmp);
   }
   // Durable before it replaces the previous checkpoint: after a crash PATH holds one complete
   // checkpoint, the old or the new.
@@ -363,7 +241,7 @@ namespace {
 
 // Opens a checkpoint for reading; InputError when it is not one.
 hid_t open_checkpoint(const std::string& path) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  h5::silence_error_stack();
   std::error_code ec;
   if (!fs::is_regular_file(path, ec))
     throw InputError(path, 0, "restart", "the checkpoint file does not exist");
@@ -377,23 +255,23 @@ hid_t open_checkpoint(const std::string& path) {
 }  // namespace
 
 CheckpointInfo read_checkpoint_info(const std::string& path) {
-  H5Handle file(open_checkpoint(path), H5Fclose, "");
+  const Handle file(open_checkpoint(path), H5Fclose);
   const hid_t root = file.get();
   CheckpointInfo info;
   try {
-    if (read_attribute<std::string>(root, "format") != kFormat)
+    if (kRead.read_attribute<std::string>(root, "format") != kFormat)
       throw std::runtime_error("not a fracta checkpoint");
-    const std::int64_t version = read_attribute<std::int64_t>(root, "format_version");
+    const std::int64_t version = kRead.read_attribute<std::int64_t>(root, "format_version");
     if (version != kFormatVersion)
       throw std::runtime_error("checkpoint format version " + std::to_string(version) +
                                ", this fracta reads version " + std::to_string(kFormatVersion));
-    info.version = read_attribute<std::string>(root, "version");
-    info.case_text = read_attribute<std::string>(root, "case");
-    info.case_path = read_attribute<std::string>(root, "case_path");
-    info.overrides = split_lines(read_attribute<std::string>(root, "overrides"));
-    info.output_path = read_attribute<std::string>(root, "output_path");
-    info.time = read_attribute<double>(root, "time");
-    info.steps = static_cast<long>(read_attribute<std::int64_t>(root, "steps"));
+    info.version = kRead.read_attribute<std::string>(root, "version");
+    info.case_text = kRead.read_attribute<std::string>(root, "case");
+    info.case_path = kRead.read_attribute<std::string>(root, "case_path");
+    info.overrides = split_lines(kRead.read_attribute<std::string>(root, "overrides"));
+    info.output_path = kRead.read_attribute<std::string>(root, "output_path");
+    info.time = kRead.read_attribute<double>(root, "time");
+    info.steps = static_cast<long>(kRead.read_attribute<std::int64_t>(root, "steps"));
   } catch (const std::runtime_error& e) {
     throw InputError(path, 0, "restart", std::string("not a valid fracta checkpoint: ") + e.what());
   }
@@ -401,7 +279,7 @@ CheckpointInfo read_checkpoint_info(const std::string& path) {
 }
 
 void read_checkpoint_state(Simulation& sim, const std::string& path) {
-  H5Handle file(open_checkpoint(path), H5Fclose, "");
+  const Handle file(open_checkpoint(path), H5Fclose);
   try {
     CheckpointIO::read(sim, file.get());
   } catch (const std::runtime_error& e) {

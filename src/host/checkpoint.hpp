@@ -1,12 +1,12 @@
-// Checkpoints and restart (DESIGN.md 3.2), and the stop signals that end a run cleanly.
+// Checkpoints and restart (docs/case-file.md), and the stop signals that end a run cleanly.
 //
 // A checkpoint holds the complete state after a step: every device view a step mutates (the
 // list in state_views.hpp), every Simulation scalar (time, dt and its bounds, step count,
 // energies and works, counters, the energy floor), the rigid bodies, and the contact candidate
 // list with its reference positions. There is no random-number state: the solver draws no
 // random numbers. With it, a restarted run continues bit for bit as the uninterrupted run
-// would have (one thread; with several threads the atomic force sums are ordered differently
-// from run to run anyway, so both runs agree within round-off).
+// would have, on any number of CPU threads (the forces are summed in a fixed order; GPUs add
+// atomically and agree within round-off).
 //
 // It also records the fracta version and the case (file text, path, --set overrides) so a
 // restart can refuse a case that changes the model (check_restart_compatible in case.hpp).

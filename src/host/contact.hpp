@@ -1,4 +1,4 @@
-// Contact between discs (DESIGN.md 1.2-1.3): the Verlet-list pre-search and the force law,
+// Contact between discs (docs/physics.md 1.2-1.3): the Verlet-list pre-search and the force law,
 // orchestrated on the host; all data stay on the device.
 //
 // Each step: update(nodes) rebuilds the candidate list when some disc moved more than skin/2
@@ -9,7 +9,7 @@
 // pair into a contact at once.
 //
 // Which nodes are discs. Either a fixed list (the constructor, set_disc_nodes: tests,
-// benchmarks) or, after track_surface(), the discs that can touch now (DESIGN.md 1.3: "every
+// benchmarks) or, after track_surface(), the discs that can touch now (docs/physics.md 1.3: "every
 // particle and every FE boundary node"): the given surface nodes (the mesh's boundary nodes,
 // static) and the particles (nodes.particle_list, which only the conversion and a restore
 // change; refresh_discs() re-derives the list from them). A node inside the intact FE mesh

@@ -1,5 +1,5 @@
 // Memory estimate of a case before its mesh is built, and the check that refuses a case that
-// would not fit (DESIGN.md 3.1: bad input, exit code 2). Host-only, no Kokkos: the fuzz harness
+// would not fit (docs/output.md: bad input, exit code 2). Host-only, no Kokkos: the fuzz harness
 // links it without the device code.
 #pragma once
 #include <string>

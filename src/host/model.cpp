@@ -171,7 +171,7 @@ bool convertible(BodyMethod m) {
 }
 
 // The bonded lattice is isotropic only for nu <= 1/3 (plane stress) or nu <= 1/4 (plane
-// strain): above, the shear spring ks would be negative (DESIGN.md 1.2).
+// strain): above, the shear spring ks would be negative (docs/physics.md 1.2).
 void check_lattice_range(const Case& c) {
   const bool plane_strain = c.sim.formulation == Formulation::plane_strain;
   for (const Body& b : c.bodies) {
@@ -425,7 +425,7 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
 
   // Nodes that may take part in contact (nodes.contact_disc, for the stable step): every node
   // of a convertible body's mesh that is or may become a particle, and every FE boundary node
-  // (DESIGN.md 1.3). The contact itself tracks the discs that can touch now: the boundary nodes
+  // (docs/physics.md 1.3). The contact itself tracks the discs that can touch now: the boundary nodes
   // and the particles (ContactSystem::track_surface, after the de parts below). Skin: a quarter
   // of the smallest cell.
   std::vector<int> disc(nn, 0), surface_nodes;

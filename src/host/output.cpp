@@ -1,4 +1,4 @@
-// HDF5 output (DESIGN.md 3.3) and the XDMF side file that lets ParaView open it.
+// HDF5 output (docs/output.md) and the XDMF side file that lets ParaView open it.
 //
 // File format choices:
 // - Crash safety by atomic replacement, not by flushing: HDF5 1.10 updates its metadata in place
@@ -57,7 +57,7 @@
 //   holds every frame, with zero-size particle/bond datasets when there are none.
 #include "host/output.hpp"
 
-#include <hdf5.h>
+#include <hdf5.h>  // host only: the CUDA check skips the files that include it
 
 #include <cstdint>
 #include <cstdio>
@@ -70,6 +70,8 @@
 #include <type_traits>
 #include <utility>
 
+#include "host/hdf5.hpp"
+
 namespace fracta {
 namespace {
 
@@ -77,55 +79,7 @@ namespace fs = std::filesystem;
 
 constexpr hsize_t kChunkRows = 512;  // 4 KB per double series: small files to rewrite
 
-// Owns one HDF5 identifier and closes it with the matching H5?close.
-class Handle {
- public:
-  using Closer = herr_t (*)(hid_t);
-  Handle() = default;
-  Handle(hid_t id, Closer close) : id_(id), close_(close) {}
-  Handle(Handle&& o) noexcept : id_(std::exchange(o.id_, H5I_INVALID_HID)), close_(o.close_) {}
-  Handle& operator=(Handle&& o) noexcept {
-    if (this != &o) {
-      reset();
-      id_ = std::exchange(o.id_, H5I_INVALID_HID);
-      close_ = o.close_;
-    }
-    return *this;
-  }
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  ~Handle() { reset(); }
-  void reset() {
-    if (id_ >= 0 && close_) close_(id_);
-    id_ = H5I_INVALID_HID;
-  }
-  hid_t get() const { return id_; }
-
- private:
-  hid_t id_ = H5I_INVALID_HID;
-  Closer close_ = nullptr;
-};
-
-template <class T>
-struct H5Types;
-template <>
-struct H5Types<double> {
-  static hid_t mem() { return H5T_NATIVE_DOUBLE; }
-  static hid_t file() { return H5T_IEEE_F64LE; }
-  static constexpr const char* xdmf = R"(NumberType="Float" Precision="8")";
-};
-template <>
-struct H5Types<std::int64_t> {
-  static hid_t mem() { return H5T_NATIVE_INT64; }
-  static hid_t file() { return H5T_STD_I64LE; }
-  static constexpr const char* xdmf = R"(NumberType="Int" Precision="8")";
-};
-template <>
-struct H5Types<int> {
-  static hid_t mem() { return H5T_NATIVE_INT; }
-  static hid_t file() { return H5T_STD_I32LE; }
-  static constexpr const char* xdmf = R"(NumberType="Int" Precision="4")";
-};
+using h5::Handle;
 
 // One column of a record series: dataset name (relative to the series group) and accessor.
 template <class R, class T>
@@ -207,11 +161,6 @@ struct FrameInfo {
 // The three kinds of grid of a frame in the .xdmf, one temporal collection each.
 enum class GridKind { mesh, discs, bonds };
 
-herr_t innermost_error(unsigned n, const H5E_error2_t* e, void* data) {
-  if (n == 0 && e->desc) *static_cast<std::string*>(data) = e->desc;
-  return 0;
-}
-
 std::string xml_escape(const std::string& s) {
   std::string out;
   for (char c : s) {
@@ -251,104 +200,24 @@ struct OutputFile::Impl {
   std::vector<FrameInfo> frame_info;
   bool finished = false;
 
-  // --- error handling --------------------------------------------------------------------
+  // --- error handling and helpers (host/hdf5.hpp) -----------------------------------------
 
-  [[noreturn]] void fail(const std::string& what) const {
-    std::string detail;
-    H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, innermost_error, &detail);
-    H5Eclear2(H5E_DEFAULT);
-    throw std::runtime_error("output " + path + ": " + what +
-                             (detail.empty() ? "" : " (HDF5: " + detail + ")"));
-  }
-  hid_t id(hid_t h, const std::string& what) const {
-    if (h < 0) fail(what);
-    return h;
-  }
-  void ok(herr_t status, const std::string& what) const {
-    if (status < 0) fail(what);
-  }
-  // Absolute name of `loc`/`name`, for messages.
-  static std::string where(hid_t loc, const std::string& name) {
-    char buf[512] = "";
-    H5Iget_name(loc, buf, sizeof buf);
-    const std::string base = buf;
-    if (name.empty()) return base;
-    return (base == "/" ? "" : base) + "/" + name;
-  }
+  h5::Io io{""};  // "output PATH: ..." messages
+  hid_t id(hid_t h, const std::string& what) const { return io.id(h, what); }
+  void ok(herr_t status, const std::string& what) const { io.ok(status, what); }
+  static std::string where(hid_t loc, const std::string& name) { return h5::Io::where(loc, name); }
   void require_open(const char* op) const {
     if (finished) throw std::runtime_error("output " + path + ": " + op + " after finish()");
   }
-
-  // --- helpers ---------------------------------------------------------------------------
-
-  Handle group(hid_t loc, const std::string& name) {
-    return Handle(id(H5Gcreate2(loc, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                     "cannot create group " + where(loc, name)),
-                  H5Gclose);
-  }
-
-  // Scalar attribute `name` on `obj` (replaced if present).
+  Handle group(hid_t loc, const std::string& name) { return io.create_group(loc, name); }
   template <class T>
   void attribute(hid_t obj, const char* name, const T& value) {
-    const std::string what = "cannot write attribute " + where(obj, "") + " " + name;
-    if (H5Aexists(obj, name) > 0) ok(H5Adelete(obj, name), what);
-    Handle space(id(H5Screate(H5S_SCALAR), what), H5Sclose);
-    if constexpr (std::is_same_v<T, std::string>) {
-      Handle type(id(H5Tcopy(H5T_C_S1), what), H5Tclose);
-      ok(H5Tset_size(type.get(), H5T_VARIABLE), what);
-      ok(H5Tset_cset(type.get(), H5T_CSET_UTF8), what);
-      Handle attr(
-          id(H5Acreate2(obj, name, type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), what),
-          H5Aclose);
-      const char* p = value.c_str();
-      ok(H5Awrite(attr.get(), type.get(), &p), what);
-    } else {
-      Handle attr(
-          id(H5Acreate2(obj, name, H5Types<T>::file(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
-             what),
-          H5Aclose);
-      ok(H5Awrite(attr.get(), H5Types<T>::mem(), &value), what);
-    }
-  }
-
-  // Empty 1-D extendible dataset for a growing series.
-  void create_series(hid_t loc, const char* name, hid_t file_type) {
-    const std::string what = "cannot create dataset " + where(loc, name);
-    const hsize_t zero = 0, unlimited = H5S_UNLIMITED;
-    Handle space(id(H5Screate_simple(1, &zero, &unlimited), what), H5Sclose);
-    Handle dcpl(id(H5Pcreate(H5P_DATASET_CREATE), what), H5Pclose);
-    ok(H5Pset_chunk(dcpl.get(), 1, &kChunkRows), what);
-    Handle ds(
-        id(H5Dcreate2(loc, name, file_type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
-           what),
-        H5Dclose);
-  }
-
-  // Appends `values` to the 1-D series `name` under `loc`.
-  template <class T>
-  void append_series(hid_t loc, const char* name, const std::vector<T>& values) {
-    if (values.empty()) return;
-    const std::string what = "cannot append to " + where(loc, name);
-    Handle ds(id(H5Dopen2(loc, name, H5P_DEFAULT), what), H5Dclose);
-    hsize_t old_rows = 0;
-    {
-      Handle space(id(H5Dget_space(ds.get()), what), H5Sclose);
-      ok(H5Sget_simple_extent_dims(space.get(), &old_rows, nullptr), what);
-    }
-    const hsize_t count = values.size(), rows = old_rows + count;
-    ok(H5Dset_extent(ds.get(), &rows), what);
-    Handle file_space(id(H5Dget_space(ds.get()), what), H5Sclose);
-    ok(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &old_rows, nullptr, &count, nullptr),
-       what);
-    Handle mem_space(id(H5Screate_simple(1, &count, nullptr), what), H5Sclose);
-    ok(H5Dwrite(ds.get(), H5Types<T>::mem(), mem_space.get(), file_space.get(), H5P_DEFAULT,
-                values.data()),
-       what);
+    io.write_attribute(obj, name, value);
   }
 
   template <class R, class T, std::size_t N>
   void create_columns(hid_t loc, const Column<R, T> (&columns)[N]) {
-    for (const auto& c : columns) create_series(loc, c.name, H5Types<T>::file());
+    for (const auto& c : columns) io.create_series<T>(loc, c.name, kChunkRows);
   }
 
   template <class R, class T, std::size_t N>
@@ -356,51 +225,23 @@ struct OutputFile::Impl {
     std::vector<T> values(rows.size());
     for (const auto& c : columns) {
       for (std::size_t i = 0; i < rows.size(); ++i) values[i] = c.get(rows[i]);
-      append_series(loc, c.name, values);
+      io.append_series(loc, c.name, values);
     }
   }
 
   // Fixed-size dataset: `rows` x `width` (1-D when width == 1), zero rows allowed.
   template <class T>
   void write_array(hid_t loc, const char* name, const std::vector<T>& values, std::size_t width) {
-    const std::string what = "cannot write dataset " + where(loc, name);
-    const hsize_t dims[2] = {values.size() / width, width};
-    Handle space(id(H5Screate_simple(width == 1 ? 1 : 2, dims, nullptr), what), H5Sclose);
-    Handle ds(id(H5Dcreate2(loc, name, H5Types<T>::file(), space.get(), H5P_DEFAULT, H5P_DEFAULT,
-                            H5P_DEFAULT),
-                 what),
-              H5Dclose);
-    if (!values.empty())
-      ok(H5Dwrite(ds.get(), H5Types<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), what);
-  }
-
-  template <class T>
-  void write_scalar(hid_t loc, const char* name, T value) {
-    const std::string what = "cannot write dataset " + where(loc, name);
-    Handle space(id(H5Screate(H5S_SCALAR), what), H5Sclose);
-    Handle ds(id(H5Dcreate2(loc, name, H5Types<T>::file(), space.get(), H5P_DEFAULT, H5P_DEFAULT,
-                            H5P_DEFAULT),
-                 what),
-              H5Dclose);
-    ok(H5Dwrite(ds.get(), H5Types<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &value), what);
+    const hsize_t rows = values.size() / width;
+    io.write_array(loc, name,
+                   width == 1 ? std::vector<hsize_t>{rows} : std::vector<hsize_t>{rows, width},
+                   values);
   }
 
   // --- operations ------------------------------------------------------------------------
 
-  Handle create_file(const std::string& file_path) {
-    Handle fapl(id(H5Pcreate(H5P_FILE_ACCESS), "cannot create file access properties"), H5Pclose);
-    ok(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_EARLIEST, H5F_LIBVER_V18),
-       "cannot set library version bounds");
-    return Handle(id(H5Fcreate(file_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
-                     "cannot create file " + file_path),
-                  H5Fclose);
-  }
-
-  Handle open_read(const std::string& file_path) {
-    return Handle(
-        id(H5Fopen(file_path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "cannot open " + file_path),
-        H5Fclose);
-  }
+  Handle create_file(const std::string& file_path) { return io.create_file(file_path, true); }
+  Handle open_read(const std::string& file_path) { return io.open_read(file_path); }
 
   static void rename_over(const std::string& from, const std::string& to, const std::string& path) {
     if (std::rename(from.c_str(), to.c_str()) != 0)
@@ -620,8 +461,8 @@ struct OutputFile::Impl {
     Handle g = group(frame_file_handle.get(), "frame");
     attribute(g.get(), "time", f.time);
     attribute(g.get(), "step", static_cast<std::int64_t>(f.step));
-    write_scalar(g.get(), "time", f.time);
-    write_scalar(g.get(), "step", static_cast<std::int64_t>(f.step));
+    io.write_scalar(g.get(), "time", f.time);
+    io.write_scalar(g.get(), "step", static_cast<std::int64_t>(f.step));
     write_array(g.get(), "node_position", f.node_position, 2);
     write_array(g.get(), "node_displacement", f.node_displacement, 2);
     write_array(g.get(), "node_velocity", f.node_velocity, 2);
@@ -652,7 +493,7 @@ struct OutputFile::Impl {
   // <DataItem> for the dataset /frames/K/NAME of shape `dims`.
   template <class T>
   void data_item(std::ostream& x, std::size_t k, const char* name, const std::string& dims) const {
-    x << "          <DataItem Dimensions=\"" << dims << "\" " << H5Types<T>::xdmf
+    x << "          <DataItem Dimensions=\"" << dims << "\" " << h5::Types<T>::xdmf
       << " Format=\"HDF\">" << xml_escape(h5_name) << ":/frames/" << k << "/" << name
       << "</DataItem>\n";
   }
@@ -787,8 +628,9 @@ struct OutputFile::Impl {
 
 OutputFile::OutputFile(const std::string& path, const RunInfo& info)
     : impl_(std::make_unique<Impl>()) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become exceptions, not stderr dumps
+  h5::silence_error_stack();  // errors become exceptions, not stderr dumps
   impl_->path = path;
+  impl_->io = h5::Io("output " + path);
   impl_->open(info);
 }
 

@@ -1,4 +1,4 @@
-// HDF5 output (DESIGN.md 3.3) and its XDMF side file for ParaView.
+// HDF5 output (docs/output.md) and its XDMF side file for ParaView.
 // Host-only: the solver copies device state into these plain structs at output time.
 // History rows are buffered in memory and committed by flush(); every write_frame() commits.
 // A commit writes the whole OUT.h5 to OUT.h5.tmp and renames it into place (frames live in
@@ -21,7 +21,7 @@ struct RunInfo {
   std::string case_path;
 };
 
-// Energies in J (for the modelled thickness), DESIGN.md 1.4. `error` is the relative balance
+// Energies in J (for the modelled thickness), docs/physics.md 1.4. `error` is the relative balance
 // error |E_kin + E_td + E_int + E_dissipated - E_ext - E_0| / max(E_ext + E_0, E_kin).
 // `time_discretization` (E_td <= 0) is -(dt^2/8) sum |f|^2 / m: the bounded, non-accumulating
 // difference between the full-step kinetic energy and the energy central differences conserve,

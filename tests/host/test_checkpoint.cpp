@@ -1,4 +1,4 @@
-// Checkpoints, restart and crash-safe output (DESIGN.md 3.1-3.2), through the command line on
+// Checkpoints, restart and crash-safe output (docs/output.md), through the command line on
 // tests/data/restart/impact.toml: a coarse projectile-into-slab scene with FE elements,
 // conversion to bonded discs, bond breakage and contact, ~1 s per run.
 #include <fcntl.h>
@@ -121,7 +121,7 @@ std::vector<std::string> datasets_under(hid_t file, const std::string& group) {
   return out;
 }
 
-// The number of complete frames, /frames@count (DESIGN.md 3.3 as extended in README: a killed
+// The number of complete frames, /frames@count (docs/output.md: a killed
 // run may leave a link /frames/K to a partial frame beyond it); -1 if it is missing.
 long frame_count(hid_t file) {
   const hid_t g = H5Gopen2(file, "/frames", H5P_DEFAULT);

@@ -1,4 +1,4 @@
-// The command line contract (DESIGN.md 3.1): exit codes and messages, run end to end.
+// The command line contract (docs/output.md): exit codes and messages, run end to end.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <sys/wait.h>

@@ -1,4 +1,4 @@
-// HDF5 output (DESIGN.md 3.3): layout and exact values read back with the HDF5 C API, the
+// HDF5 output (docs/output.md): layout and exact values read back with the HDF5 C API, the
 // .xdmf's references, empty frames, and a run killed with SIGKILL after two frames.
 //
 // Set FRACTA_KEEP_OUTPUT_TEST=1 to keep the files (the test prints where they are).

@@ -1,5 +1,5 @@
 // The named profiling regions the benchmarks time (bench/region_timer.hpp), and the contract
-// they show (DESIGN.md 1.3, issue 5 item 5): a scene without contact-capable bodies never runs
+// they show (docs/physics.md 1.3: model only what a scene requires): a scene without contact-capable bodies never runs
 // the neighbour search, and no bond or conversion work is done where no body can convert.
 // Counts are exact integers: every step enters each of its phases once (integration twice:
 // kick_drift and kick).

@@ -1,4 +1,4 @@
-// Stability at the extremes (issue 6, item 4): the time-step bound, very fast impacts, a
+// Stability at the extremes: the time-step bound, very fast impacts, a
 // stiffness ratio of 10^4 across a contact, nu = 0 and nu = 0.49, and scale invariance from
 // 1 um to 1 m cells. Each test states its tolerance and the reason.
 // The 10^6-step elastic run is a spinning block (below): the free vibration of a squeezed
@@ -234,7 +234,7 @@ TEST(Extremes, FixedDtRefusedJustAboveTheBound) {
 // issue's 5%; the projectile lost at least 10% of its momentum (they met).
 // Not asserted: penetration depth. With an FE slab (and the same with an FE slab under a rigid
 // projectile) the projectile slips between the slab's surface discs once they spread by more
-// than a cell: contact is disc-on-disc only (DESIGN.md 1.3), there is no node-to-segment
+// than a cell: contact is disc-on-disc only (docs/physics.md 1.3), there is no node-to-segment
 // contact, so an FE target is not impenetrable at this speed (reported to the lead).
 TEST(Extremes, ImpactAt2000MetresPerSecondFeAndRigid) {
   const std::pair<BodyMethod, BodyMethod> pairs[] = {{BodyMethod::fe, BodyMethod::fe},

@@ -1,5 +1,5 @@
 // The bonded lattice in motion: energy conservation, tensile failure at the material strength
-// (DESIGN.md 1.2 calibration), and the energy balance through breakage.
+// (docs/physics.md 1.2 calibration), and the energy balance through breakage.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -34,7 +34,7 @@ TEST(LatticeEnergy, ElasticLatticeConservesEnergyOver20000Steps) {
   RecordProperty("worst_energy_error", std::to_string(worst));
 }
 
-// At the full stable step (dt_safety = 1: the Gershgorin bound itself, DESIGN.md 1.4) the
+// At the full stable step (dt_safety = 1: the Gershgorin bound itself, docs/physics.md 1.4) the
 // lattice, with its rotations, stays stable: 20,000 steps of free ringing keep the balance
 // within the same 0.5% (an unstable mode would grow exponentially and blow it up).
 TEST(LatticeEnergy, StableAtTheFullGershgorinStep) {
@@ -194,7 +194,7 @@ TEST(LatticeFailure, CohesiveCrackDissipatesTheFractureEnergyAtAnyCellSize) {
 // Shear test: a lattice block of a Mohr-Coulomb material under a confining pressure p (ramped
 // first) and then a slowly ramped pure shear stress tau (tractions on all four faces). The faces
 // of the orthogonal bonds carry (sigma_n, tau) = (-p, tau), so the block must fail on the
-// Mohr-Coulomb envelope tau = c + p tan(phi) (DESIGN.md 1.2). Ramps of ~100 wave transits keep
+// Mohr-Coulomb envelope tau = c + p tan(phi) (docs/physics.md 1.2). Ramps of ~100 wave transits keep
 // the dynamic overshoot near 1%; the tolerance is 5%.
 double run_shear(double p) {
   const double h = 1e-3, E = 30e9, nu = 0.2, rho = 2400.0;

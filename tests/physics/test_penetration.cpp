@@ -58,7 +58,7 @@ TEST(Penetration, CoarseRegressionOnDepthAndConversions) {
 }
 
 // The projectile stays `fe` (steel's nu = 0.3 in plane strain is outside the lattice's range,
-// DESIGN.md 1.2): the issue asks to show that it would not have converted anyway. The case as
+// docs/physics.md 1.2): this shows that it would not have converted anyway. The case as
 // shipped (1.667 mm cells) to 100 us, past the deceleration (200 -> 125 m/s by 60 us): the
 // projectile's largest equivalent plastic strain must stay below steel's conversion strain
 // (0.5, the default for bilinear_j2); measured 0.24 over the whole 300 us run.

@@ -33,7 +33,7 @@ TEST(PlaneWave, PlaneStrainSpeedAndParticleVelocity) {
   record(r);
 }
 
-// The same plane wave through the bonded disc lattice (DESIGN.md 1.2): its stiffness equals the
+// The same plane wave through the bonded disc lattice (docs/physics.md 1.2): its stiffness equals the
 // continuum's, so speed and plateau particle velocity match the continuum values; 1.5% is the
 // issue's bound for the lattice, whose front rings more (no bulk viscosity acts on discs).
 TEST(PlaneWave, LatticePlaneStressSpeedAndParticleVelocity) {

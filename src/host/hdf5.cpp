@@ -1,0 +1,232 @@
+#include "host/hdf5.hpp"
+
+#include <hdf5.h>  // host only: the CUDA check skips the files that include it
+
+#include <sstream>
+#include <stdexcept>
+#include <type_traits>
+
+namespace fracta::h5 {
+
+namespace {
+
+herr_t innermost_error(unsigned n, const H5E_error2_t* e, void* data) {
+  if (n == 0 && e->desc) *static_cast<std::string*>(data) = e->desc;
+  return 0;
+}
+
+// A variable-length UTF-8 string type.
+Handle string_type(const Io& io, const std::string& what) {
+  Handle type(io.id(H5Tcopy(H5T_C_S1), what), H5Tclose);
+  io.ok(H5Tset_size(type.get(), H5T_VARIABLE), what);
+  io.ok(H5Tset_cset(type.get(), H5T_CSET_UTF8), what);
+  return type;
+}
+
+std::string shape(const std::vector<hsize_t>& dims) {
+  std::ostringstream s;
+  s << "(";
+  for (size_t k = 0; k < dims.size(); ++k) s << (k ? ", " : "") << dims[k];
+  s << ")";
+  return s.str();
+}
+
+}  // namespace
+
+void silence_error_stack() {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
+
+void Io::fail(const std::string& what) const {
+  std::string detail;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, innermost_error, &detail);
+  H5Eclear2(H5E_DEFAULT);
+  throw std::runtime_error((context_.empty() ? "" : context_ + ": ") + what +
+                           (detail.empty() ? "" : " (HDF5: " + detail + ")"));
+}
+
+std::string Io::where(hid_t loc, const std::string& name) {
+  char buf[512] = "";
+  H5Iget_name(loc, buf, sizeof buf);
+  const std::string base = buf;
+  if (name.empty()) return base;
+  return (base == "/" ? "" : base) + "/" + name;
+}
+
+Handle Io::create_file(const std::string& path, bool portable) const {
+  Handle fapl(id(H5Pcreate(H5P_FILE_ACCESS), "cannot create file access properties"), H5Pclose);
+  if (portable)
+    ok(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_EARLIEST, H5F_LIBVER_V18),
+       "cannot set library version bounds");
+  return Handle(id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
+                   "cannot create file " + path),
+                H5Fclose);
+}
+
+Handle Io::open_read(const std::string& path) const {
+  return Handle(id(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "cannot open " + path),
+                H5Fclose);
+}
+
+Handle Io::create_group(hid_t loc, const std::string& name) const {
+  return Handle(id(H5Gcreate2(loc, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                   "cannot create group " + where(loc, name)),
+                H5Gclose);
+}
+
+Handle Io::open_group(hid_t loc, const std::string& name) const {
+  if (!exists(loc, name)) fail("group " + where(loc, name) + " is missing");
+  return Handle(
+      id(H5Gopen2(loc, name.c_str(), H5P_DEFAULT), "cannot open group " + where(loc, name)),
+      H5Gclose);
+}
+
+bool Io::exists(hid_t loc, const std::string& name) const {
+  return H5Lexists(loc, name.c_str(), H5P_DEFAULT) > 0;
+}
+
+template <class T>
+void Io::write_attribute(hid_t obj, const char* name, const T& value) const {
+  const std::string what = "cannot write attribute " + where(obj, "") + " " + name;
+  if (H5Aexists(obj, name) > 0) ok(H5Adelete(obj, name), what);
+  Handle space(id(H5Screate(H5S_SCALAR), what), H5Sclose);
+  if constexpr (std::is_same_v<T, std::string>) {
+    const Handle type = string_type(*this, what);
+    Handle attr(id(H5Acreate2(obj, name, type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), what),
+                H5Aclose);
+    const char* p = value.c_str();
+    ok(H5Awrite(attr.get(), type.get(), &p), what);
+  } else {
+    Handle attr(
+        id(H5Acreate2(obj, name, Types<T>::file(), space.get(), H5P_DEFAULT, H5P_DEFAULT), what),
+        H5Aclose);
+    ok(H5Awrite(attr.get(), Types<T>::mem(), &value), what);
+  }
+}
+
+template <class T>
+T Io::read_attribute(hid_t obj, const char* name) const {
+  const std::string what = "cannot read attribute " + where(obj, "") + " " + name;
+  if (H5Aexists(obj, name) <= 0) fail("attribute " + where(obj, "") + " " + name + " is missing");
+  Handle attr(id(H5Aopen(obj, name, H5P_DEFAULT), what), H5Aclose);
+  if constexpr (std::is_same_v<T, std::string>) {
+    const Handle type = string_type(*this, what);
+    char* p = nullptr;
+    ok(H5Aread(attr.get(), type.get(), &p), what);
+    std::string s = p ? p : "";
+    H5free_memory(p);
+    return s;
+  } else {
+    T value{};
+    ok(H5Aread(attr.get(), Types<T>::mem(), &value), what);
+    return value;
+  }
+}
+
+template <class T>
+void Io::write_array(hid_t loc, const std::string& name, const std::vector<hsize_t>& dims,
+                     const std::vector<T>& values) const {
+  const std::string what = "cannot write dataset " + where(loc, name);
+  Handle space(id(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), what),
+               H5Sclose);
+  Handle ds(id(H5Dcreate2(loc, name.c_str(), Types<T>::file(), space.get(), H5P_DEFAULT,
+                          H5P_DEFAULT, H5P_DEFAULT),
+               what),
+            H5Dclose);
+  if (!values.empty())
+    ok(H5Dwrite(ds.get(), Types<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), what);
+}
+
+template <class T>
+void Io::write_scalar(hid_t loc, const std::string& name, T value) const {
+  const std::string what = "cannot write dataset " + where(loc, name);
+  Handle space(id(H5Screate(H5S_SCALAR), what), H5Sclose);
+  Handle ds(id(H5Dcreate2(loc, name.c_str(), Types<T>::file(), space.get(), H5P_DEFAULT,
+                          H5P_DEFAULT, H5P_DEFAULT),
+               what),
+            H5Dclose);
+  ok(H5Dwrite(ds.get(), Types<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &value), what);
+}
+
+template <class T>
+std::vector<T> Io::read_array(hid_t loc, const std::string& name,
+                              const std::vector<hsize_t>& dims) const {
+  const std::string what = "cannot read dataset " + where(loc, name);
+  if (!exists(loc, name)) fail("dataset " + name + " is missing");
+  Handle ds(id(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), what), H5Dclose);
+  Handle space(id(H5Dget_space(ds.get()), what), H5Sclose);
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  std::vector<hsize_t> got(rank > 0 ? rank : 0);
+  if (rank < 0 || H5Sget_simple_extent_dims(space.get(), got.data(), nullptr) < 0) fail(what);
+  if (got != dims)
+    fail("dataset " + name + " has shape " + shape(got) + ", the model needs " + shape(dims));
+  size_t n = 1;
+  for (hsize_t d : dims) n *= d;
+  std::vector<T> values(n);
+  if (n > 0)
+    ok(H5Dread(ds.get(), Types<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), what);
+  return values;
+}
+
+hsize_t Io::size_of(hid_t loc, const std::string& name) const {
+  const std::string what = "cannot read dataset " + where(loc, name);
+  if (!exists(loc, name)) fail("dataset " + name + " is missing");
+  Handle ds(id(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), what), H5Dclose);
+  Handle space(id(H5Dget_space(ds.get()), what), H5Sclose);
+  const hssize_t n = H5Sget_simple_extent_npoints(space.get());
+  if (n < 0) fail(what);
+  return static_cast<hsize_t>(n);
+}
+
+template <class T>
+void Io::create_series(hid_t loc, const char* name, hsize_t chunk_rows) const {
+  const std::string what = "cannot create dataset " + where(loc, name);
+  const hsize_t zero = 0, unlimited = H5S_UNLIMITED;
+  Handle space(id(H5Screate_simple(1, &zero, &unlimited), what), H5Sclose);
+  Handle dcpl(id(H5Pcreate(H5P_DATASET_CREATE), what), H5Pclose);
+  ok(H5Pset_chunk(dcpl.get(), 1, &chunk_rows), what);
+  Handle ds(
+      id(H5Dcreate2(loc, name, Types<T>::file(), space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+         what),
+      H5Dclose);
+}
+
+template <class T>
+void Io::append_series(hid_t loc, const char* name, const std::vector<T>& values) const {
+  if (values.empty()) return;
+  const std::string what = "cannot append to " + where(loc, name);
+  Handle ds(id(H5Dopen2(loc, name, H5P_DEFAULT), what), H5Dclose);
+  hsize_t old_rows = 0;
+  {
+    Handle space(id(H5Dget_space(ds.get()), what), H5Sclose);
+    ok(H5Sget_simple_extent_dims(space.get(), &old_rows, nullptr), what);
+  }
+  const hsize_t count = values.size(), rows = old_rows + count;
+  ok(H5Dset_extent(ds.get(), &rows), what);
+  Handle file_space(id(H5Dget_space(ds.get()), what), H5Sclose);
+  ok(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &old_rows, nullptr, &count, nullptr),
+     what);
+  Handle mem_space(id(H5Screate_simple(1, &count, nullptr), what), H5Sclose);
+  ok(H5Dwrite(ds.get(), Types<T>::mem(), mem_space.get(), file_space.get(), H5P_DEFAULT,
+              values.data()),
+     what);
+}
+
+#define FRACTA_H5_NUMERIC(T)                                                               \
+  template void Io::write_attribute<T>(hid_t, const char*, const T&) const;                \
+  template T Io::read_attribute<T>(hid_t, const char*) const;                              \
+  template void Io::write_array<T>(hid_t, const std::string&, const std::vector<hsize_t>&, \
+                                   const std::vector<T>&) const;                           \
+  template void Io::write_scalar<T>(hid_t, const std::string&, T) const;                   \
+  template std::vector<T> Io::read_array<T>(hid_t, const std::string&,                     \
+                                            const std::vector<hsize_t>&) const;            \
+  template void Io::create_series<T>(hid_t, const char*, hsize_t) const;                   \
+  template void Io::append_series<T>(hid_t, const char*, const std::vector<T>&) const;
+FRACTA_H5_NUMERIC(double)
+FRACTA_H5_NUMERIC(std::int64_t)
+FRACTA_H5_NUMERIC(int)
+#undef FRACTA_H5_NUMERIC
+template void Io::write_attribute<std::string>(hid_t, const char*, const std::string&) const;
+template std::string Io::read_attribute<std::string>(hid_t, const char*) const;
+
+}  // namespace fracta::h5
