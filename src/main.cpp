@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
   // Kokkos 3.4 prints a warning on stdout unless the OpenMP binding is set: set a good default.
   setenv("OMP_PROC_BIND", "spread", 0);
   setenv("OMP_PLACES", "threads", 0);
-  // Kokkos reads its own options (--kokkos-num-threads=N, ...) but also answers a bare --help
+  // Kokkos reads its own options (--kokkos-threads=N, ...) but also answers a bare --help
   // with its option list: it gets neither --help nor -h, so `fracta --help` is fracta's help,
   // and the command line parser gets every argument but the --kokkos-* ones.
   std::vector<char*> kokkos_args, cli_args;
@@ -90,10 +90,12 @@ int main(int argc, char** argv) {
   int kokkos_argc = static_cast<int>(kokkos_args.size());
   kokkos_args.push_back(nullptr);
   Kokkos::ScopeGuard kokkos(kokkos_argc, kokkos_args.data());
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--kokkos-help") return 0;  // Kokkos printed its options
 
   CLI::App app{"fracta: 2D adaptive FE-DE impact dynamics"};
   app.footer(
-      "Threads: OMP_NUM_THREADS=N or --kokkos-num-threads=N; --kokkos-help lists Kokkos' "
+      "Threads: OMP_NUM_THREADS=N or --kokkos-threads=N; --kokkos-help lists Kokkos' "
       "options.\nExit codes: 0 done, 1 internal or I/O error, 2 bad input, 3 numerical failure, "
       "130 / 143 stopped by SIGINT / SIGTERM.\nReference: README.md and docs/.");
   app.require_subcommand(1);

@@ -122,8 +122,13 @@ TEST(Cli, HelpIsFractasOwn) {
   }
   EXPECT_NE(run("--help").out.find("Exit codes"), std::string::npos);
   EXPECT_NE(run("run --help").out.find("--restart"), std::string::npos);
-  // Kokkos' own options are still read.
-  EXPECT_EQ(run("info --kokkos-threads=1").code, 0);
+  // Kokkos' own options are still read, and its help is there when asked for.
+  const Result one_thread = run("info --kokkos-threads=1");
+  EXPECT_EQ(one_thread.code, 0);
+  EXPECT_NE(one_thread.out.find("concurrency 1"), std::string::npos) << one_thread.out;
+  const Result kokkos_help = run("--kokkos-help");
+  EXPECT_EQ(kokkos_help.code, 0) << kokkos_help.out;
+  EXPECT_NE(kokkos_help.out.find("--kokkos-threads"), std::string::npos) << kokkos_help.out;
 }
 
 TEST(Cli, PlateCaseRunsAndInfoPrintsBackend) {
