@@ -713,7 +713,11 @@ int run_case(const Case& c, const RunOptions& opt) {
   HistoryRecord last = record();
   out.write_frame(sim.frame(c.output.fields));
   long last_frame_step = sim.steps(), last_checkpoint_step = -1;
+  // The failure snapshot is the last state that passed the checks of a history row (finite
+  // energies, the energy error below its limit), taken at most every snapshot_every steps: a
+  // state between two rows is not known to be good.
   const long snapshot_every = 100;
+  long last_snapshot_step = sim.steps();
   const std::string checkpoint_path = checkpoint_path_for(path);
   auto checkpoint = [&]() {
     out.flush();  // the output holds every history row up to the checkpoint
@@ -753,10 +757,12 @@ int run_case(const Case& c, const RunOptions& opt) {
     sim.step(/*defer_kick=*/true);  // history, frames, snapshots and checkpoints finish it
     if (sim.failed()) break;
     const bool at_end = sim.time() >= end - eps;
+    bool checked = false;
     if (history_every <= 0 || sim.time() >= next_history - eps || at_end) {
       last = record();
       advance(next_history, history_every);
       if (sim.failed()) break;
+      checked = true;
     }
     if (sim.time() >= next_frame - eps || at_end) {
       out.write_frame(sim.frame(c.output.fields));
@@ -768,7 +774,10 @@ int run_case(const Case& c, const RunOptions& opt) {
       checkpoint();
       advance(next_checkpoint, checkpoint_every);
     }
-    if (sim.steps() % snapshot_every == 0) sim.save_snapshot();
+    if (checked && sim.steps() - last_snapshot_step >= snapshot_every) {
+      sim.save_snapshot();
+      last_snapshot_step = sim.steps();
+    }
     progress(false);
     if (StopSignals::received()) break;
   }
