@@ -155,6 +155,12 @@ std::string restart_command(const Case& c, const std::string& checkpoint_path) {
 
 Simulation::Simulation(const Case& c) : model_(build_model(c)) {
   StepClock& clock = ledger_.clock;
+  // The contact's forces of the last evaluation are part of the state (snapshot, checkpoint)
+  // from the start, also for a lone body whose contact begins at its first conversion.
+  if (model_.contacts) {
+    contact_force_ = View<double* [3]>("fracta::contact_force", model_.nodes.count);
+    contact_force_prev_ = View<double* [3]>("fracta::contact_force_prev", model_.nodes.count);
+  }
   // The bond network's bound: bonds only weaken or break, so it stays valid until a conversion
   // adds stiffness; it allows 6 contacts per disc.
   stable_dt_.cache = true;
@@ -288,10 +294,6 @@ ContactPhaseSums Simulation::contact_forces(double dt) {
   Model& m = model_;
   if (!contact_possible(m)) return {0.0, ledger_.energy.contact_elastic, ledger_.counts.touching};
   ProfilingRegion region("fracta::contact_forces");
-  if (contact_force_.extent(0) != static_cast<size_t>(m.nodes.count)) {
-    contact_force_ = View<double* [3]>("fracta::contact_force", m.nodes.count);
-    contact_force_prev_ = View<double* [3]>("fracta::contact_force_prev", m.nodes.count);
-  }
   // The contact's own forces are the change it makes to the accumulators (fx, fy, moment).
   const auto discs = m.contacts->discs();
   store_forces_before(m.nodes, discs, contact_force_);
