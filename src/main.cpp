@@ -1,15 +1,19 @@
 // fracta command line: run | check | info (README.md, docs/output.md for the exit codes).
 // Exit codes: 0 success, 2 bad input, 3 numerical failure (after writing the last good state),
-// 130 / 143 stopped by SIGINT / SIGTERM (after writing a checkpoint and a final frame).
+// 4 I/O error (a full disk, an unwritable path: nothing written before is lost), 5 internal
+// error (after writing the last good state), 130 / 143 stopped by SIGINT / SIGTERM (after
+// writing a checkpoint and a final frame).
 #include <unistd.h>
 #include <CLI/CLI.hpp>
 #include <Kokkos_Core.hpp>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
 
 #include "host/case.hpp"
+#include "host/io_error.hpp"
 #include "host/memory.hpp"
 #include "host/mesh.hpp"
 #include "host/model.hpp"
@@ -78,6 +82,9 @@ int main(int argc, char** argv) {
   // Kokkos 3.4 prints a warning on stdout unless the OpenMP binding is set: set a good default.
   setenv("OMP_PROC_BIND", "spread", 0);
   setenv("OMP_PLACES", "threads", 0);
+  // A file-size limit (ulimit -f) makes a write fail with EFBIG, an I/O error the run reports,
+  // instead of killing the process.
+  std::signal(SIGXFSZ, SIG_IGN);
   // Kokkos reads its own options (--kokkos-threads=N, ...) but also answers a bare --help
   // with its option list: it gets neither --help nor -h, so `fracta --help` is fracta's help,
   // and the command line parser gets every argument but the --kokkos-* ones.
@@ -96,8 +103,9 @@ int main(int argc, char** argv) {
   CLI::App app{"fracta: 2D adaptive FE-DE impact dynamics"};
   app.footer(
       "Threads: OMP_NUM_THREADS=N or --kokkos-threads=N; --kokkos-help lists Kokkos' "
-      "options.\nExit codes: 0 done, 1 internal or I/O error, 2 bad input, 3 numerical failure, "
-      "130 / 143 stopped by SIGINT / SIGTERM.\nReference: README.md and docs/.");
+      "options.\nExit codes: 0 done, 2 bad input, 3 numerical failure, 4 I/O error (full disk, "
+      "unwritable path), 5 internal error, 130 / 143 stopped by SIGINT / SIGTERM.\nReference: "
+      "README.md and docs/.");
   app.require_subcommand(1);
   std::string case_path, output_path, restart_path;
   std::vector<std::string> overrides;
@@ -106,7 +114,9 @@ int main(int argc, char** argv) {
       "Checkpoints: [output] checkpoint_interval = T (s) writes the complete state to "
       "OUT.ckpt.h5 every T of simulated time and at the end (replaced atomically).\n"
       "SIGINT (Ctrl-C) / SIGTERM: stop after the current step, write a checkpoint and a final "
-      "frame, exit 130 / 143.\nExit codes: 0 done, 2 bad input, 3 numerical failure.");
+      "frame, exit 130 / 143.\nExit codes: 0 done, 2 bad input, 3 numerical failure, 4 I/O error, "
+      "5 "
+      "internal error.");
   run->add_option("case", case_path, "case file (TOML)")->required();
   run->add_option("-o,--output", output_path, "output file (default: the case's output.file)");
   run->add_option("--restart", restart_path,
@@ -141,8 +151,11 @@ int main(int argc, char** argv) {
   } catch (const fracta::InputError& e) {
     std::fprintf(stderr, "fracta: error: %s\n", e.what());
     return 2;
+  } catch (const fracta::IoError& e) {
+    std::fprintf(stderr, "fracta: I/O error: %s\n", e.what());
+    return 4;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "fracta: error: %s\n", e.what());
-    return 1;
+    std::fprintf(stderr, "fracta: internal error: %s\n", e.what());
+    return 5;
   }
 }

@@ -87,7 +87,7 @@ void sync_path(const std::string& path, int flags) {
   if (fd < 0 || ::fsync(fd) != 0) {
     const std::string why = std::strerror(errno);
     if (fd >= 0) ::close(fd);
-    throw std::runtime_error("checkpoint: cannot sync " + path + ": " + why);
+    throw IoError("checkpoint: cannot sync " + path + ": " + why);
   }
   ::close(fd);
 }
@@ -212,9 +212,19 @@ std::string checkpoint_path_for(const std::string& output_path) {
 void write_checkpoint(Simulation& sim, const std::string& path, const CheckpointInfo& info) {
   h5::silence_error_stack();  // errors become exceptions, not stderr dumps
   const std::string tmp = path + ".tmp";
+  // Room for the new checkpoint beside the old one, before HDF5 writes any of it: the state's
+  // bytes (StateViews) and a margin for the case text, the contact list and HDF5's metadata.
+  std::uintmax_t bytes = (64u << 10) + 2 * info.case_text.size();
   {
-    Handle file = kWrite.create_file(tmp, false);
-    const hid_t root = file.get();
+    StateViews live = sim.state();
+    for_each_state_view(live, live, [&](const char*, const auto& v, const auto&) {
+      bytes += v.span() * sizeof(typename std::decay_t<decltype(v)>::non_const_value_type);
+    });
+    if (sim.model().contacts) bytes += 12 * sim.model().contacts->candidate_count();
+  }
+  bytes += bytes / 10;  // HDF5's metadata
+  kWrite.require_space(path, bytes, tmp);
+  kWrite.write_file(tmp, false, false, [&](hid_t root) {
     kWrite.write_attribute(root, "format", std::string(kFormat));
     kWrite.write_attribute(root, "format_version", kFormatVersion);
     kWrite.write_attribute(root, "version", info.version);
@@ -225,14 +235,17 @@ void write_checkpoint(Simulation& sim, const std::string& path, const Checkpoint
     kWrite.write_attribute(root, "time", info.time);
     kWrite.write_attribute(root, "steps", static_cast<std::int64_t>(info.steps));
     CheckpointIO::write(sim, root);
-    kWrite.ok(file.close(), "cannot close " + tmp);
-  }
+  });
   // Durable before it replaces the previous checkpoint: after a crash PATH holds one complete
   // checkpoint, the old or the new.
-  sync_path(tmp, O_RDONLY);
+  try {
+    sync_path(tmp, O_RDONLY);
+  } catch (...) {
+    h5::Io::remove_file(tmp);  // the previous checkpoint stays as it was
+    throw;
+  }
   if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw std::runtime_error("checkpoint: cannot rename " + tmp + " to " + path + ": " +
-                             std::strerror(errno));
+    throw IoError("checkpoint: cannot rename " + tmp + " to " + path + ": " + std::strerror(errno));
   fs::path dir = fs::path(path).parent_path();
   sync_path(dir.empty() ? "." : dir.string(), O_RDONLY | O_DIRECTORY);
 }

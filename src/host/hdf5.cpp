@@ -1,7 +1,14 @@
 #include "host/hdf5.hpp"
 
+#include <fcntl.h>
 #include <hdf5.h>  // host only: the CUDA check skips the files that include it
+#include <sys/resource.h>
+#include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
+
+#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
@@ -41,8 +48,17 @@ void Io::fail(const std::string& what) const {
   std::string detail;
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, innermost_error, &detail);
   H5Eclear2(H5E_DEFAULT);
-  throw std::runtime_error((context_.empty() ? "" : context_ + ": ") + what +
-                           (detail.empty() ? "" : " (HDF5: " + detail + ")"));
+  // The file drivers' messages run over several lines with addresses and offsets; the system's
+  // own reason ("No space left on device") is what a user can act on.
+  const std::string quoted = "error message = '";
+  const std::size_t reason = detail.find(quoted);
+  if (reason != std::string::npos) {
+    const std::size_t begin = reason + quoted.size(), end = detail.find('\'', begin);
+    detail = detail.substr(0, detail.find(':')) + ": " + detail.substr(begin, end - begin);
+  }
+  detail = detail.substr(0, detail.find('\n'));
+  throw IoError((context_.empty() ? "" : context_ + ": ") + what +
+                (detail.empty() ? "" : " (HDF5: " + detail + ")"));
 }
 
 std::string Io::where(hid_t loc, const std::string& name) {
@@ -53,14 +69,90 @@ std::string Io::where(hid_t loc, const std::string& name) {
   return (base == "/" ? "" : base) + "/" + name;
 }
 
-Handle Io::create_file(const std::string& path, bool portable) const {
-  Handle fapl(id(H5Pcreate(H5P_FILE_ACCESS), "cannot create file access properties"), H5Pclose);
+namespace {
+Handle file_access(const Io& io, bool portable, bool in_memory) {
+  Handle fapl(io.id(H5Pcreate(H5P_FILE_ACCESS), "cannot create file access properties"), H5Pclose);
+  // The core driver without a backing store: the file lives in memory, grown by 1 MiB.
+  if (in_memory)
+    io.ok(H5Pset_fapl_core(fapl.get(), 1 << 20, false), "cannot select the in-memory driver");
   if (portable)
-    ok(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_EARLIEST, H5F_LIBVER_V18),
-       "cannot set library version bounds");
+    io.ok(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_EARLIEST, H5F_LIBVER_V18),
+          "cannot set library version bounds");
+  return fapl;
+}
+}  // namespace
+
+Handle Io::create_file(const std::string& path, bool portable) const {
+  const Handle fapl = file_access(*this, portable, false);
   return Handle(id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
                    "cannot create file " + path),
                 H5Fclose);
+}
+
+Handle Io::create_memory_file(bool portable) const {
+  const Handle fapl = file_access(*this, portable, true);
+  // The name only labels the image: nothing is written under it.
+  return Handle(id(H5Fcreate("fracta-memory-image.h5", H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
+                   "cannot create a file in memory"),
+                H5Fclose);
+}
+
+void Io::write_image(Handle& file, const std::string& path) const {
+  const std::string what = "cannot make the image of " + path;
+  ok(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), what);
+  const ssize_t size = H5Fget_file_image(file.get(), nullptr, 0);
+  if (size < 0) fail(what);
+  std::vector<char> image(static_cast<size_t>(size));
+  if (H5Fget_file_image(file.get(), image.data(), image.size()) != size) fail(what);
+  ok(file.close(), what);
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fd < 0) fail("cannot create " + path + ": " + std::strerror(errno));
+  size_t done = 0;
+  while (done < image.size()) {
+    const ssize_t n = ::write(fd, image.data() + done, image.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const std::string why = n < 0 ? std::strerror(errno) : "nothing written";
+      ::close(fd);
+      remove_file(path);
+      fail("cannot write " + path + ": " + why);
+    }
+    done += static_cast<size_t>(n);
+  }
+  if (::close(fd) != 0) {
+    const std::string why = std::strerror(errno);
+    remove_file(path);
+    fail("cannot write " + path + ": " + why);
+  }
+}
+
+void Io::remove_file(const std::string& path) {
+  std::error_code ignored;
+  std::filesystem::remove(path, ignored);
+}
+
+void Io::close_file(Handle& file, const std::string& path) const {
+  ok(file.close(), "cannot write " + path + " whole (file system full?)");
+}
+
+void Io::require_space(const std::string& path, std::uintmax_t bytes,
+                       const std::string& what) const {
+  std::error_code ec;
+  std::filesystem::path dir(path);
+  if (!std::filesystem::is_directory(dir, ec)) dir = dir.parent_path();
+  if (dir.empty()) dir = ".";
+  const std::filesystem::space_info info = std::filesystem::space(dir, ec);
+  if (ec) fail("cannot read the free space of " + dir.string() + ": " + ec.message());
+  if (info.available < bytes)
+    fail("not enough space on the file system of " + dir.string() + " to write " + what +
+         ": it needs about " + std::to_string(bytes) + " bytes, " + std::to_string(info.available) +
+         " are available");
+  // A file-size limit (ulimit -f) fails a write just as a full file system does.
+  struct rlimit limit;
+  if (getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
+      limit.rlim_cur < bytes)
+    fail("the file-size limit (ulimit -f) of " + std::to_string(limit.rlim_cur) +
+         " bytes is below the about " + std::to_string(bytes) + " bytes of " + what);
 }
 
 Handle Io::open_read(const std::string& path) const {

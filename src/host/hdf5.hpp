@@ -2,8 +2,12 @@
 // growing series. The output file (output.cpp) and the checkpoint (checkpoint.cpp) both write
 // and read through it, so they share one set of conventions:
 // - every identifier is owned by a Handle and closed by it (also when an exception unwinds);
-// - a failure throws std::runtime_error "CONTEXT: what (HDF5: innermost message)", where the
-//   context names the file ("output OUT.h5", "checkpoint"); HDF5's own stderr dump is off;
+// - a failure throws IoError "CONTEXT: what (HDF5: innermost message)", where the context names
+//   the file ("output OUT.h5", "checkpoint"); HDF5's own stderr dump is off;
+// - a file is written whole to a temporary name, its close checked (the close is where HDF5
+//   writes its last metadata), and only then renamed into place by the caller; the space it
+//   needs is checked before HDF5 is asked to write it, because HDF5 1.10 can crash (not fail)
+//   when the file system fills up inside an object copy;
 // - strings are scalar variable-length UTF-8 attributes (they live in the global heap, so the
 //   64 KiB object-header limit does not apply to a long case text); numbers are little-endian
 //   IEEE doubles and 32/64-bit integers in the file, native in memory;
@@ -13,9 +17,12 @@
 #include <hdf5.h>
 
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "host/io_error.hpp"
 
 namespace fracta::h5 {
 
@@ -99,6 +106,37 @@ class Io {
 
   // A new file (truncated). `portable`: superblock and objects readable by any HDF5 1.8+.
   Handle create_file(const std::string& path, bool portable) const;
+  // Closes a file written through create_file; IoError if HDF5 could not write it whole.
+  void close_file(Handle& file, const std::string& path) const;
+  // Writes the file `path` whole: fill(root) makes its contents. `in_memory`: built in memory
+  // and written by one plain write, so a full file system or a file-size limit fails that write
+  // and nothing else (HDF5 1.10 can crash, not fail, when a write fails inside an object copy);
+  // for files that copy objects and are small. Otherwise HDF5 writes it as it goes, into the
+  // room require_space checked. On failure the partial file is removed.
+  template <class Fill>
+  void write_file(const std::string& path, bool portable, bool in_memory, Fill&& fill) const {
+    if (in_memory) {
+      Handle file = create_memory_file(portable);
+      fill(file.get());
+      write_image(file, path);
+      return;
+    }
+    try {
+      Handle file = create_file(path, portable);
+      fill(file.get());
+      close_file(file, path);
+    } catch (...) {
+      remove_file(path);
+      throw;
+    }
+  }
+  // An HDF5 file in memory only, and its image written to `path` (the handle closed).
+  Handle create_memory_file(bool portable) const;
+  void write_image(Handle& file, const std::string& path) const;
+  static void remove_file(const std::string& path);
+  // IoError unless the file system of `path` (a file or directory) has `bytes` available and the
+  // process may write a file of that size (ulimit -f).
+  void require_space(const std::string& path, std::uintmax_t bytes, const std::string& what) const;
   Handle open_read(const std::string& path) const;
   Handle create_group(hid_t loc, const std::string& name) const;
   Handle open_group(hid_t loc, const std::string& name) const;

@@ -425,9 +425,9 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
 
   // Nodes that may take part in contact (nodes.contact_disc, for the stable step): every node
   // of a convertible body's mesh that is or may become a particle, and every FE boundary node
-  // (docs/physics.md 1.3). The contact itself tracks the discs that can touch now: the boundary nodes
-  // and the particles (ContactSystem::track_surface, after the de parts below). Skin: a quarter
-  // of the smallest cell.
+  // (docs/physics.md 1.3). The contact itself tracks the discs that can touch now: the boundary
+  // nodes and the particles (ContactSystem::track_surface, after the de parts below). Skin: a
+  // quarter of the smallest cell.
   std::vector<int> disc(nn, 0), surface_nodes;
   double h_min = 1e300;
   for (size_t b = 0; b < c.bodies.size(); ++b)

@@ -59,8 +59,12 @@
 
 #include <hdf5.h>  // host only: the CUDA check skips the files that include it
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -199,6 +203,7 @@ struct OutputFile::Impl {
   std::map<std::string, std::vector<BodyProbeRecord>> body_probe_rows;
   std::vector<FrameInfo> frame_info;
   bool finished = false;
+  bool consolidated = false;  // finish() copied the frames into OUT.h5
 
   // --- error handling and helpers (host/hdf5.hpp) -----------------------------------------
 
@@ -240,12 +245,33 @@ struct OutputFile::Impl {
 
   // --- operations ------------------------------------------------------------------------
 
-  Handle create_file(const std::string& file_path) { return io.create_file(file_path, true); }
   Handle open_read(const std::string& file_path) { return io.open_read(file_path); }
 
   static void rename_over(const std::string& from, const std::string& to, const std::string& path) {
     if (std::rename(from.c_str(), to.c_str()) != 0)
-      throw std::runtime_error("output " + path + ": cannot rename " + from + " to " + to);
+      throw IoError("output " + path + ": cannot rename " + from + " to " + to + ": " +
+                    std::strerror(errno));
+  }
+
+  // Bytes a commit writes to OUT.h5.tmp, beside the OUT.h5 it replaces, with a margin: the
+  // previous file, the buffered rows, the case text and, when consolidating, every frame file.
+  std::uintmax_t commit_bytes(bool consolidate) const {
+    std::error_code ec;
+    std::uintmax_t bytes = (64u << 10) + info.case_text.size();
+    if (committed) {
+      const std::uintmax_t old = fs::file_size(path, ec);
+      if (!ec) bytes += old;
+    }
+    std::size_t rows = history_rows.size();
+    for (const auto& [name, r] : probe_rows) rows += r.size();
+    for (const auto& [name, r] : body_probe_rows) rows += r.size();
+    bytes += 256 * rows;
+    if (consolidate)
+      for (std::size_t k = 0; k < frame_info.size(); ++k) {
+        const std::uintmax_t frame = fs::file_size(frame_file(k), ec);
+        if (!ec) bytes += frame;
+      }
+    return bytes;
   }
 
   std::string frame_file(std::size_t k) const {
@@ -263,9 +289,17 @@ struct OutputFile::Impl {
     frames_dir = path + ".frames";
     frames_rel = h5_name + ".frames";
 
+    // A missing or read-only directory is named as such (HDF5 would only say it cannot create).
+    std::error_code ignored;
+    const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+    if (!fs::is_directory(dir, ignored))
+      throw IoError("output " + path + ": the directory " + dir.string() + " does not exist");
+    if (::access(dir.c_str(), W_OK) != 0)
+      throw IoError("output " + path + ": the directory " + dir.string() +
+                    " is not writable: " + std::strerror(errno));
+
     // What an earlier run of the same name left: a .xdmf describing frames this run will not
     // have, its frame files, a half-written OUT.h5.tmp.
-    std::error_code ignored;
     fs::remove(xdmf_path, ignored);
     fs::remove_all(frames_dir, ignored);
     fs::remove(path + ".tmp", ignored);
@@ -279,14 +313,31 @@ struct OutputFile::Impl {
   };
 
   // Writes the whole output to OUT.h5.tmp and renames it over OUT.h5 (see the top of the file).
-  // `consolidate`: frames copied in from their files rather than linked.
+  // `consolidate`: frames copied in from their files rather than linked. On failure the
+  // temporary file is removed and OUT.h5 is the previous commit's, untouched.
   void commit(const FinalAttributes* final_attributes, bool consolidate) {
     const std::string tmp = path + ".tmp";
+    io.require_space(path, commit_bytes(consolidate), tmp);
+    // A commit copies the previous history (an object copy): in memory, as it is small, but not
+    // the final one that copies the frames in (that would hold them twice in memory).
+    io.write_file(tmp, true, !consolidate,
+                  [&](hid_t root) { write_output(root, final_attributes, consolidate); });
+    rename_over(tmp, path, path);
+    committed = true;
+    history_rows.clear();
+    for (auto& [name, rows] : probe_rows) rows.clear();
+    for (auto& [name, rows] : body_probe_rows) rows.clear();
+    if (consolidate) {
+      std::error_code ignored;
+      fs::remove_all(frames_dir, ignored);
+    }
+  }
+
+  // The contents of OUT.h5 into the open file `root`.
+  void write_output(hid_t root, const FinalAttributes* final_attributes, bool consolidate) {
     {
-      Handle out = create_file(tmp);
       Handle old;
       if (committed) old = open_read(path);
-      const hid_t root = out.get();
 
       Handle run = group(root, "run");
       attribute(run.get(), "version", info.version);
@@ -340,16 +391,7 @@ struct OutputFile::Impl {
              "cannot link /frames/" + name + " to " + target);
         }
       }
-    }  // every handle closed: the file is complete
-    rename_over(tmp, path, path);
-    committed = true;
-    history_rows.clear();
-    for (auto& [name, rows] : probe_rows) rows.clear();
-    for (auto& [name, rows] : body_probe_rows) rows.clear();
-    if (consolidate) {
-      std::error_code ignored;
-      fs::remove_all(frames_dir, ignored);
-    }
+    }  // every object closed: the caller closes the file
   }
 
   static void check_name(const std::string& path, const std::string& name) {
@@ -455,10 +497,33 @@ struct OutputFile::Impl {
     std::error_code dir_error;
     fs::create_directories(frames_dir, dir_error);
     if (dir_error)
-      throw std::runtime_error("output " + path + ": cannot create directory " + frames_dir + ": " +
-                               dir_error.message());
-    Handle frame_file_handle = create_file(tmp);
-    Handle g = group(frame_file_handle.get(), "frame");
+      throw IoError("output " + path + ": cannot create directory " + frames_dir + ": " +
+                    dir_error.message());
+    // The frame and the commit that lists it, before HDF5 writes any of them.
+    io.require_space(frames_dir, frame_bytes(f) + commit_bytes(false), final_name);
+    io.write_file(tmp, true, false, [&](hid_t file) { write_frame_datasets(file, f, info); });
+    rename_over(tmp, final_name, path);
+    frame_info.push_back(std::move(info));
+    commit(nullptr, false);  // OUT.h5 now lists it
+    write_xdmf();
+  }
+
+  // Bytes of frame f's datasets, with a margin for HDF5's metadata.
+  static std::uintmax_t frame_bytes(const FrameData& f) {
+    std::uintmax_t bytes = 16u << 10;
+    for (const auto* v : {&f.node_position, &f.node_displacement, &f.node_velocity,
+                          &f.element_stress, &f.element_plastic_strain, &f.element_pressure,
+                          &f.element_von_mises, &f.particle_radius, &f.particle_rotation,
+                          &f.particle_spin, &f.bond_normal_force, &f.bond_damage, &f.fragment_mass})
+      bytes += v->size() * sizeof(double);
+    for (const auto* v : {&f.element_nodes, &f.element_id, &f.element_body, &f.particle_node,
+                          &f.bond_nodes, &f.bond_state, &f.node_fragment})
+      bytes += v->size() * sizeof(int);
+    return bytes + f.fragment_size.size() * sizeof(std::int64_t);
+  }
+
+  void write_frame_datasets(hid_t file, const FrameData& f, const FrameInfo& info) {
+    Handle g = group(file, "frame");
     attribute(g.get(), "time", f.time);
     attribute(g.get(), "step", static_cast<std::int64_t>(f.step));
     io.write_scalar(g.get(), "time", f.time);
@@ -482,12 +547,6 @@ struct OutputFile::Impl {
     write_array(g.get(), "node_fragment", f.node_fragment, 1);
     write_array(g.get(), "fragment_mass", f.fragment_mass, 1);
     write_array(g.get(), "fragment_size", f.fragment_size, 1);
-    g.reset();
-    frame_file_handle.reset();
-    rename_over(tmp, final_name, path);
-    frame_info.push_back(std::move(info));
-    commit(nullptr, false);  // OUT.h5 now lists it
-    write_xdmf();
   }
 
   // <DataItem> for the dataset /frames/K/NAME of shape `dims`.
@@ -612,17 +671,38 @@ struct OutputFile::Impl {
       std::ofstream out(tmp, std::ios::trunc);
       out << x.str();
       out.close();
-      if (!out) throw std::runtime_error("output " + path + ": cannot write " + tmp);
+      if (!out) {
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
+        throw IoError("output " + path + ": cannot write " + tmp + " (file system full?)");
+      }
     }
-    if (std::rename(tmp.c_str(), xdmf_path.c_str()) != 0)
-      throw std::runtime_error("output " + path + ": cannot rename " + tmp + " to " + xdmf_path);
+    rename_over(tmp, xdmf_path, path);
   }
 
   void finish(long steps, double wall_seconds, const std::string& status) {
     if (finished) return;
     const FinalAttributes final_attributes{steps, wall_seconds, status};
-    commit(&final_attributes, true);
+    // Without room to copy the frames in, the last commit links them (OUT.h5.frames stays).
+    // (commit checks the room first; a failed commit leaves OUT.h5 and the frames as they were).
+    try {
+      commit(&final_attributes, true);
+      consolidated = true;
+    } catch (const IoError&) {
+      commit(&final_attributes, false);
+      consolidated = false;
+    }
     finished = true;
+  }
+
+  // After an I/O error: no more writing (the destructor would try), and no temporary files left.
+  void abandon() {
+    finished = true;
+    std::error_code ignored;
+    fs::remove(path + ".tmp", ignored);
+    fs::remove(xdmf_path + ".tmp", ignored);
+    for (std::size_t k = 0; k <= frame_info.size(); ++k)
+      fs::remove(frame_file(k) + ".tmp", ignored);
   }
 };
 
@@ -676,6 +756,14 @@ void OutputFile::flush() {
 
 void OutputFile::finish(long steps, double wall_seconds, const std::string& status) {
   impl_->finish(steps, wall_seconds, status);
+}
+
+void OutputFile::abandon() {
+  impl_->abandon();
+}
+
+bool OutputFile::frames_consolidated() const {
+  return impl_->consolidated;
 }
 
 const std::string& OutputFile::path() const {

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "host/io_error.hpp"
+
 namespace fracta {
 
 struct RunInfo {
@@ -87,7 +89,8 @@ struct FrameData {
 
 class OutputFile {
  public:
-  // Creates (truncates) `path` and writes /run attributes. Throws std::runtime_error on failure.
+  // Creates (truncates) `path` and writes /run attributes. Writes throw IoError (hdf5.hpp) when
+  // a file cannot be written (full file system, missing or read-only directory).
   OutputFile(const std::string& path, const RunInfo& info);
   ~OutputFile();
   OutputFile(const OutputFile&) = delete;
@@ -109,6 +112,12 @@ class OutputFile {
   // the last commit, with every frame copied into OUT.h5 (one self-contained file; the frame
   // files are removed). Safe to call once; the destructor commits without these otherwise.
   void finish(long steps, double wall_seconds, const std::string& status);
+
+  // After an I/O error (IoError): writes nothing more, not even from the destructor, and removes
+  // the temporary files. OUT.h5 (with OUT.h5.frames) stays as the last commit left it.
+  void abandon();
+  // Whether finish() copied the frames into OUT.h5 (false: no room; OUT.h5.frames stays).
+  bool frames_consolidated() const;
 
   const std::string& path() const;
   int frames_written() const;

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
+#include <stdexcept>
 
 #include "host/checkpoint.hpp"
 #include "kernels/energy.hpp"
@@ -755,68 +757,122 @@ int run_case(const Case& c, const RunOptions& opt) {
     std::fflush(stdout);
   };
 
-  while (sim.time() < end - eps && !sim.failed()) {
-    sim.step(/*defer_kick=*/true);  // history, frames, snapshots and checkpoints finish it
-    if (sim.failed()) break;
-    const bool at_end = sim.time() >= end - eps;
-    bool checked = false;
-    if (history_every <= 0 || sim.time() >= next_history - eps || at_end) {
-      last = record();
-      advance(next_history, history_every);
+  // An I/O error (IoError: a full file system, an unwritable path) ends the run with exit code 4
+  // and writes nothing more: what was written before stays complete (every file is written to a
+  // temporary name and renamed into place). An internal error (any other exception of a step)
+  // ends it with exit code 5 after writing the last good state, as a numerical failure does.
+  std::string internal_error;
+  // A test hook: FRACTA_INJECT_INTERNAL_ERROR=N throws an internal error in step N + 1, so the
+  // tests can show what a run does with one (docs/development.md).
+  const char* inject = std::getenv("FRACTA_INJECT_INTERNAL_ERROR");
+  const long inject_at_step = inject ? std::atol(inject) : -1;
+  try {
+    while (sim.time() < end - eps && !sim.failed()) {
+      try {
+        if (sim.steps() == inject_at_step)
+          throw std::logic_error("injected by FRACTA_INJECT_INTERNAL_ERROR at step " +
+                                 std::to_string(inject_at_step + 1));
+        sim.step(/*defer_kick=*/true);  // history, frames, snapshots and checkpoints finish it
+      } catch (const IoError&) {
+        throw;
+      } catch (const std::exception& e) {
+        internal_error = e.what();
+        break;
+      }
       if (sim.failed()) break;
-      checked = true;
+      const bool at_end = sim.time() >= end - eps;
+      bool checked = false;
+      if (history_every <= 0 || sim.time() >= next_history - eps || at_end) {
+        last = record();
+        advance(next_history, history_every);
+        if (sim.failed()) break;
+        checked = true;
+      }
+      if (sim.time() >= next_frame - eps || at_end) {
+        out.write_frame(sim.frame(c.output.fields));
+        last_frame_step = sim.steps();
+        advance(next_frame, frame_every);
+      }
+      // A final checkpoint too: a restart may extend end_time.
+      if (checkpoint_every > 0 && (sim.time() >= next_checkpoint - eps || at_end)) {
+        checkpoint();
+        advance(next_checkpoint, checkpoint_every);
+      }
+      if (checked && sim.steps() - last_snapshot_step >= snapshot_every) {
+        sim.save_snapshot();
+        last_snapshot_step = sim.steps();
+      }
+      progress(false);
+      if (StopSignals::received()) break;
     }
-    if (sim.time() >= next_frame - eps || at_end) {
+    const double wall = std::chrono::duration<double>(clock::now() - wall0).count();
+    if (!internal_error.empty()) {
+      sim.restore_snapshot();
       out.write_frame(sim.frame(c.output.fields));
-      last_frame_step = sim.steps();
-      advance(next_frame, frame_every);
+      out.finish(
+          sim.steps(), wall,
+          "failed: internal error: " + internal_error + "; last frame is the last good state");
+      if (opt.progress_on_terminal) std::fprintf(stdout, "\n");
+      std::fprintf(stderr,
+                   "fracta: internal error: %s\nfracta: wrote the last good state (t = %.6g s, "
+                   "step %ld) to %s\n",
+                   internal_error.c_str(), sim.time(), sim.steps(), path.c_str());
+      return 5;
     }
-    // A final checkpoint too: a restart may extend end_time.
-    if (checkpoint_every > 0 && (sim.time() >= next_checkpoint - eps || at_end)) {
-      checkpoint();
-      advance(next_checkpoint, checkpoint_every);
+    if (sim.failed()) {
+      const std::string why = sim.failure();
+      sim.restore_snapshot();
+      out.write_frame(sim.frame(c.output.fields));
+      out.finish(sim.steps(), wall, "failed: " + why + "; last frame is the last good state");
+      if (opt.progress_on_terminal) std::fprintf(stdout, "\n");
+      std::fprintf(stderr,
+                   "fracta: numerical failure: %s\nfracta: wrote the last good state (t = %.6g s, "
+                   "step %ld) to %s\n",
+                   why.c_str(), sim.time(), sim.steps(), path.c_str());
+      return 3;
     }
-    if (checked && sim.steps() - last_snapshot_step >= snapshot_every) {
-      sim.save_snapshot();
-      last_snapshot_step = sim.steps();
+    if (const int signal = StopSignals::received()) {
+      // Stopped between two steps: the state is consistent. Keep it (checkpoint) and end the
+      // output with it (final frame), closed and flushed.
+      if (last_checkpoint_step != sim.steps()) checkpoint();
+      if (last_frame_step != sim.steps()) out.write_frame(sim.frame(c.output.fields));
+      const char* name = signal == SIGINT ? "SIGINT" : "SIGTERM";
+      out.finish(sim.steps(), wall, std::string("interrupted by ") + name);
+      if (opt.progress_on_terminal) std::fprintf(stdout, "\n");
+      std::fprintf(
+          stderr,
+          "fracta: interrupted by %s at t = %.6g s (step %ld)\nfracta: wrote the checkpoint "
+          "%s and the output %s (%d frames, the last one is this state)\nfracta: continue "
+          "with: %s\n",
+          name, sim.time(), sim.steps(), checkpoint_path.c_str(), path.c_str(),
+          out.frames_written(), restart_command(c, checkpoint_path).c_str());
+      return 128 + signal;
     }
-    progress(false);
-    if (StopSignals::received()) break;
-  }
-  const double wall = std::chrono::duration<double>(clock::now() - wall0).count();
-  if (sim.failed()) {
-    const std::string why = sim.failure();
-    sim.restore_snapshot();
-    out.write_frame(sim.frame(c.output.fields));
-    out.finish(sim.steps(), wall, "failed: " + why + "; last frame is the last good state");
+    progress(true);
+    out.finish(sim.steps(), wall, "completed");
+    if (!out.frames_consolidated())
+      std::fprintf(stderr,
+                   "fracta: not enough space to copy the frames into %s: they stay in %s.frames, "
+                   "which must be kept beside it\n",
+                   path.c_str(), path.c_str());
+    std::fprintf(stdout, "fracta: completed %ld steps in %.2f s; output %s\n", sim.steps(), wall,
+                 path.c_str());
+    return 0;
+  } catch (const IoError& e) {
+    out.abandon();
     if (opt.progress_on_terminal) std::fprintf(stdout, "\n");
-    std::fprintf(stderr,
-                 "fracta: numerical failure: %s\nfracta: wrote the last good state (t = %.6g s, "
-                 "step %ld) to %s\n",
-                 why.c_str(), sim.time(), sim.steps(), path.c_str());
-    return 3;
+    std::fprintf(
+        stderr,
+        "fracta: I/O error: %s\nfracta: stopped at t = %.6g s (step %ld). %s holds "
+        "%d frames and the history up to the last of them (its frames in %s.frames, "
+        "kept beside it)%s%s\n",
+        e.what(), sim.time(), sim.steps(), path.c_str(), out.frames_written(), path.c_str(),
+        last_checkpoint_step >= 0 ? "; the checkpoint " : "",
+        last_checkpoint_step >= 0
+            ? (checkpoint_path + " holds step " + std::to_string(last_checkpoint_step)).c_str()
+            : "");
+    return 4;
   }
-  if (const int signal = StopSignals::received()) {
-    // Stopped between two steps: the state is consistent. Keep it (checkpoint) and end the
-    // output with it (final frame), closed and flushed.
-    if (last_checkpoint_step != sim.steps()) checkpoint();
-    if (last_frame_step != sim.steps()) out.write_frame(sim.frame(c.output.fields));
-    const char* name = signal == SIGINT ? "SIGINT" : "SIGTERM";
-    out.finish(sim.steps(), wall, std::string("interrupted by ") + name);
-    if (opt.progress_on_terminal) std::fprintf(stdout, "\n");
-    std::fprintf(stderr,
-                 "fracta: interrupted by %s at t = %.6g s (step %ld)\nfracta: wrote the checkpoint "
-                 "%s and the output %s (%d frames, the last one is this state)\nfracta: continue "
-                 "with: %s\n",
-                 name, sim.time(), sim.steps(), checkpoint_path.c_str(), path.c_str(),
-                 out.frames_written(), restart_command(c, checkpoint_path).c_str());
-    return 128 + signal;
-  }
-  progress(true);
-  out.finish(sim.steps(), wall, "completed");
-  std::fprintf(stdout, "fracta: completed %ld steps in %.2f s; output %s\n", sim.steps(), wall,
-               path.c_str());
-  return 0;
 }
 
 }  // namespace fracta

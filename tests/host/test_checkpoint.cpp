@@ -570,4 +570,84 @@ TEST(Checkpoint, SigkillWhileCheckpointingLeavesAValidCheckpoint) {
   }
 }
 
+// --- I/O and internal errors --------------------------------------------------------------
+
+// No temporary file is left in `dir` (*.tmp), and every frame `file` lists reads in full.
+void expect_clean_and_complete(const std::string& dir, const std::string& file) {
+  for (const auto& entry : fs::recursive_directory_iterator(dir))
+    EXPECT_NE(entry.path().extension(), ".tmp") << entry.path();
+  H5File f(file);
+  ASSERT_GE(f.id, 0) << file << " does not open";
+  const long frames = frame_count(f.id);
+  ASSERT_GE(frames, 0);
+  for (long k = 0; k < frames; ++k) {
+    std::vector<double> v;
+    EXPECT_TRUE(read_doubles(f.id, "/frames/" + std::to_string(k) + "/node_position", v)) << k;
+    EXPECT_FALSE(v.empty()) << k;
+  }
+  if (frames > 0) {
+    const double t_last = doubles(f.id, last_frame(f.id) + "/time").at(0);
+    EXPECT_GE(doubles(f.id, "/history/time").back(), t_last);  // the history reaches it
+  }
+}
+
+// A file-size limit (prlimit --fsize: writes fail with EFBIG, as on a full file system) ends the
+// run with exit code 4 and a message naming the file, never a crash: HDF5 1.10 crashed inside an
+// object copy when a write failed (exit 139 on a full file system). What was written before the
+// failure stays complete and no temporary file is left. 150 KiB fails a plain write of OUT.h5's
+// image at its first frame; 300 KiB fails the space check of a later commit. (prlimit, of
+// util-linux, sets the limit in bytes whatever the shell; ulimit -f counts blocks of 512 bytes
+// in dash and 1024 in bash.)
+TEST(Checkpoint, FileSizeLimitEndsTheRunWithCode4AndKeepsWhatWasWritten) {
+  for (const int kib : {150, 300}) {
+    SCOPED_TRACE(std::to_string(kib) + " KiB");
+    const std::string dir = scratch("fsize" + std::to_string(kib)), out = dir + "/run.h5";
+    const Result r =
+        run("run " + kScene + " -o " + out, "prlimit --fsize=" + std::to_string(1024 * kib));
+    EXPECT_EQ(r.code, 4) << r.out;
+    EXPECT_NE(r.out.find("fracta: I/O error: output " + out), std::string::npos) << r.out;
+    expect_clean_and_complete(dir, out);
+  }
+}
+
+// Without room to copy the frames into OUT.h5 at the end, the run still completes: the last
+// commit links the frames (OUT.h5.frames stays beside it) and says so.
+TEST(Checkpoint, WithoutRoomToConsolidateTheFramesStayBesideTheOutput) {
+  const std::string dir = scratch("fsize_consolidate"), out = dir + "/run.h5";
+  const Result r = run("run " + kScene + " -o " + out, "prlimit --fsize=409600");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("they stay in " + out + ".frames"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::is_directory(out + ".frames"));
+  expect_clean_and_complete(dir, out);
+  H5File f(out);
+  EXPECT_EQ(string_attribute(f.id, "/run", "status"), "completed");
+  EXPECT_GE(frame_count(f.id), 4);
+}
+
+// An output path whose directory does not exist is an I/O error (4), named as such.
+TEST(Checkpoint, MissingOutputDirectoryIsAnIoError) {
+  const Result r = run("run " + kScene + " -o /nonexistent-fracta-dir/run.h5");
+  EXPECT_EQ(r.code, 4) << r.out;
+  EXPECT_NE(r.out.find("the directory /nonexistent-fracta-dir does not exist"), std::string::npos)
+      << r.out;
+}
+
+// An internal error in a step (an exception that is not an I/O error; injected here) writes the
+// last good state as the final frame, records the error in /run status, consolidates the output
+// into one file and exits with code 5.
+TEST(Checkpoint, InternalErrorWritesTheLastGoodStateAndExitsWith5) {
+  const std::string dir = scratch("internal"), out = dir + "/run.h5";
+  const Result r = run("run " + kScene + " -o " + out, "FRACTA_INJECT_INTERNAL_ERROR=120");
+  ASSERT_EQ(r.code, 5) << r.out;
+  EXPECT_NE(r.out.find("fracta: internal error: injected"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(out + ".frames"));  // one self-contained file
+  expect_clean_and_complete(dir, out);
+  H5File f(out);
+  EXPECT_EQ(string_attribute(f.id, "/run", "status").rfind("failed: internal error: injected", 0),
+            0u);
+  // The last frame is the snapshot of step 100 (taken at most every 100 steps, at a checked
+  // history row), before the error.
+  EXPECT_EQ(doubles(f.id, last_frame(f.id) + "/step"), std::vector<double>{100.0});
+}
+
 }  // namespace
