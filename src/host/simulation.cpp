@@ -103,12 +103,6 @@ V clone(const V& src) {
   return dst;
 }
 
-// The step's stable bound (s): the smaller of the FE and lattice bounds; a negative FE bound
-// flags an inverted element and stays negative.
-double combined_stable_dt(double fe_bound, double lattice_bound) {
-  return fe_bound < 0.0 ? fe_bound : std::min(fe_bound, lattice_bound);
-}
-
 std::string format_duration(double s) {
   char buf[32];
   // Over 30 years is no ETA; far larger values would not fit the long (undefined behaviour).

@@ -1,4 +1,4 @@
-// Disc-disc contact forces (DESIGN.md 1.2: broken bonds become contacts; the same law serves
+// Disc-disc contact forces (docs/physics.md 1.2: broken bonds become contacts; the same law serves
 // every contact in the code), evaluated over the candidate pairs of the pre-search.
 //
 // Geometry of a pair (i, j), the same conventions as the bonds (state.hpp):
@@ -10,21 +10,13 @@
 //   Relative tangential velocity of disc j with respect to disc i at the contact point
 //   (spin counter-clockwise positive):  vt = (v_j - v_i) . t - (a_i w_i + a_j w_j).
 //
-// Law (compression only, no adhesion):
-//   normal:  fn = max(0, k delta + c delta_dot), delta_dot = -(v_j - v_i) . n,
-//            k = 2 k_i k_j / (k_i + k_j) (series springs), c = 2 zeta sqrt(k m_eff),
-//            m_eff = m_i m_j / (m_i + m_j);
-//   friction (history-free regularised Coulomb):
-//            fs = mu fn vt / max(|vt|, v_reg)    (tangential force on disc i along t),
-//   force on i: -fn n + fs t, on j the opposite; moments a_i fs on i and a_j fs on j.
-//
-// Static friction is regularised, NOT exact: below |vt| = v_reg friction acts as a viscous
-// damper mu fn / v_reg, so a disc "at rest" on a slope creeps with a tangential speed of order
-// v_reg (tan(slope) / mu). v_reg = max(v_reg_min, mu fn dt / m_t), m_t the pair's tangential
-// effective mass (1/m_t = 1/m_i + 1/m_j + a_i^2/I_i + a_j^2/I_j): the second term is the
-// speed that one step of full friction removes, so the viscous branch brings vt to zero in
-// about one step instead of flipping its sign every step (chatter); v_reg_min (1e-6 m/s by
-// default) only matters when the normal force is tiny.
+// Law: ContactLaw (laws.hpp; docs/physics.md 1.2, "Contact"), a spring-dashpot in compression
+// with regularised Coulomb friction, fn = max(0, k delta + c delta_dot) with
+// delta_dot = -(v_j - v_i) . n, and fs = mu fn vt / max(|vt|, v_reg) along t on disc i. Force on
+// i: -fn n + fs t, on j the opposite; moments a_i fs on i and a_j fs on j. v_reg is at least the
+// speed that one step of full friction removes (m_t the pair's tangential effective mass), so
+// the viscous branch brings vt to zero in about one step instead of flipping its sign every step
+// (chatter); v_reg_min (1e-6 m/s by default) only matters when the normal force is tiny.
 //
 // Special cases: a disc whose fixed bits are both set has infinite mass for m_eff and m_t
 // (a wall); pairs of two such discs are skipped. A disc that is not a particle (an FE
@@ -46,15 +38,10 @@
 // of one step may be slightly negative near maximum compression, its sum is what matters.
 #pragma once
 #include "kernels/compat.hpp"
+#include "kernels/laws.hpp"
 #include "kernels/state.hpp"
 
 namespace fracta {
-
-struct ContactLaw {
-  double damping_ratio = 0.1;  // zeta
-  double friction = 0.3;       // mu
-  double v_reg_min = 1e-6;     // m/s
-};
 
 // Result of one evaluation: v[0] elastic energy (J), v[1] dissipation of this step (J),
 // v[2] number of touching pairs (overlap > 0 and not joined).
@@ -158,17 +145,14 @@ struct ContactForceKernel {
     const double delta_dot = -(vx * nx + vy * ny);
     const double vt = vx * tx + vy * ty - (ai * wi + aj * wj);
 
-    const double ki = stiffness(i), kj = stiffness(j);
-    const double k = ki + kj > 0.0 ? 2.0 * ki * kj / (ki + kj) : 0.0;
-    const double m_eff = 1.0 / (inv_mi + inv_mj);
-    const double c = 2.0 * law.damping_ratio * sqrt_(k * m_eff);
-    const double fn = max_(0.0, k * delta + c * delta_dot);
-
-    double inv_mt = inv_mi + inv_mj;
+    // The law (ContactLaw) with the pair's series stiffness and inverse masses.
+    const double k = ContactLaw::series_stiffness(stiffness(i), stiffness(j));
+    const double inv_m = inv_mi + inv_mj;
+    const double fn = law.normal_force(k, inv_m, delta, delta_dot);
+    double inv_mt = inv_m;
     if (rot_i && inv_mi > 0.0) inv_mt += ai * ai / inertia(i);
     if (rot_j && inv_mj > 0.0) inv_mt += aj * aj / inertia(j);
-    const double v_reg = max_(law.v_reg_min, law.friction * fn * dt * inv_mt);
-    const double fs = law.friction * fn * vt / max_(fabs_(vt), v_reg);
+    const double fs = law.friction_force(fn, vt, inv_mt, dt);
 
     const double fx = -fn * nx + fs * tx, fy = -fn * ny + fs * ty;  // on disc i
     if (gather) {
@@ -186,10 +170,8 @@ struct ContactForceKernel {
     }
 
     // Dissipation with the full-step rates the pair's own force produces (see the header).
-    const double delta_dot_full = delta_dot - 0.5 * dt * fn * (inv_mi + inv_mj);
-    const double vt_full = vt - 0.5 * dt * fs * inv_mt;
-    sums.v[0] += 0.5 * k * delta * delta;
-    sums.v[1] += ((fn - k * delta) * delta_dot_full + fs * vt_full) * dt;
+    sums.v[0] += ContactLaw::elastic_energy(k, delta);
+    sums.v[1] += ContactLaw::dissipation(k, delta, delta_dot, vt, fn, fs, inv_m, inv_mt, dt);
     sums.v[2] += 1.0;
   }
 

@@ -1,4 +1,4 @@
-// Element-to-particle conversion (DESIGN.md 1.3). A converted element makes its 4 nodes discs
+// Element-to-particle conversion (docs/physics.md 1.3). A converted element makes its 4 nodes discs
 // and adds its stiffness to its bond slots: k1/2 and ks/2 to each of its 4 edges (an interior
 // edge is shared by 2 elements) and k2 to each of its 2 diagonals. A `de` body is a set of
 // elements converted at time 0.
@@ -12,7 +12,7 @@
 
 namespace fracta {
 
-// Lattice spring stiffnesses of the formulation (DESIGN.md 1.2), N/m:
+// Lattice spring stiffnesses of the formulation (docs/physics.md 1.2), N/m:
 // k1 = E t / (1 + nu), k2 = nu E t / (1 - nu^2), ks = E t (1 - 3 nu) / (1 - nu^2), with
 // (E, nu) -> (E / (1 - nu^2), nu / (1 - nu)) in plane strain (paper Eq. 4). They give
 // C11 = (k1 + k2)/t, C12 = k2/t, C66 = (k2 + ks/2)/t for uniform strain with disc rotations equal
@@ -97,7 +97,7 @@ inline void activate_element_bonds(const View<int*>& converted, int count,
       });
   // Effective areas S = kn L0 / E_eff: the bond stress fn / S then equals E_eff times the bond
   // strain, so an orthogonal bond reaches sigma_t exactly when a block in uniaxial tension
-  // along it carries sigma_t (DESIGN.md 1.2 asks for that calibration).
+  // along it carries sigma_t (docs/physics.md 1.2, "Bond laws").
   // Only the slots of these cells changed stiffness: the others keep their areas. (A slot of
   // two of these cells is written twice with the same value.)
   Kokkos::parallel_for(
@@ -145,8 +145,8 @@ struct ConversionCriterion {
   }
 };
 
-// Adaptive conversion (DESIGN.md 1.3; paper Sec. 3.2, Eq. 14) as a stream compaction: flag the
-// active elements that reached their material's conversion strain (max over quadrature points;
+// Adaptive conversion (docs/physics.md 1.3; paper Sec. 3.2, Eq. 14) as a stream compaction: flag
+// the active elements that reached their material's conversion strain (max over quadrature points;
 // optionally also the tension cut-off), then an exclusive parallel_scan gives every element its
 // slot in the new active list or in the converted list, and a scatter writes both. Deterministic:
 // the order of both lists follows the old active list. Returns the number converted; the new
@@ -310,8 +310,8 @@ KOKKOS_INLINE_FUNCTION double element_rotation_rate(const Elements& el, const No
   return w;
 }
 
-// Initial bond forces of newly converted cells (DESIGN.md 1.3): the forces the lattice carries
-// under the element's elastic strain eps = C^-1 sigma, normal kn_e L n.eps.n and shear
+// Initial bond forces of newly converted cells (docs/physics.md 1.3): the forces the lattice
+// carries under the element's elastic strain eps = C^-1 sigma, normal kn_e L n.eps.n and shear
 // ks_e L t.eps.n per contribution, so the conversion itself releases no stress wave. Also starts
 // the spin of discs that were not particles, and returns (via the reduction) the elastic energy
 // the elements held (J). Runs before activate_element_bonds adds the stiffness;

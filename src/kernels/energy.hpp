@@ -1,4 +1,4 @@
-// Reductions for the energy balance and the conservation checks (DESIGN.md 1.4).
+// Reductions for the energy balance and the conservation checks (docs/physics.md 1.4).
 #pragma once
 #include "kernels/bond_forces.hpp"
 #include "kernels/compat.hpp"
@@ -81,8 +81,8 @@ inline LatticeTotals lattice_totals(const Nodes& nodes, const Bonds& bonds, doub
           const int k = used_list ? used(j) : j;
           acc.v[1] += bonds.plastic_work(k);
           if (bonds.state(k) != kBondActive) return;
-          acc.v[0] += stored_bond_energy(bonds.fn(k), bonds.fs(k), bonds.damage(k), bonds.kn(k),
-                                         bonds.ks(k));
+          acc.v[0] += CohesiveSoftening::stored_energy(bonds.fn(k), bonds.fs(k), bonds.damage(k),
+                                                       bonds.kn(k), bonds.ks(k));
           acc.v[2] += 1.0;
         },
         Kokkos::Sum<Sums<3>>(b));

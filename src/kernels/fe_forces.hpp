@@ -1,14 +1,16 @@
-// Finite-element internal forces (DESIGN.md 1.1): Q4 elements, updated Lagrangian.
-// One kernel per step over the active elements: velocity gradient -> Jaumann rotation of the
-// stress -> material update -> bulk viscosity -> hourglass control -> nodal forces, added into
-// the node accumulators (kernels/scatter.hpp). It also returns the element stable time step
-// bound.
+// Finite-element internal forces (docs/physics.md 1.1): Q4 elements, updated Lagrangian.
+// One kernel per step over the active elements, in named steps (FeForces::element): gather the
+// corners -> kinematics (velocity gradient at mid-step, gradients at the current configuration)
+// -> material update (Jaumann rotation of the stress, materials.hpp) -> bulk viscosity ->
+// hourglass control -> nodal forces, added into the node accumulators (kernels/scatter.hpp). It
+// also returns the element stable time step bound (stable_dt.hpp).
 #pragma once
 #include "kernels/compat.hpp"
 #include "kernels/conversion.hpp"
 #include "kernels/materials.hpp"
 #include "kernels/scatter.hpp"
 #include "kernels/simd.hpp"
+#include "kernels/stable_dt.hpp"
 #include "kernels/state.hpp"
 
 namespace fracta {
@@ -194,277 +196,371 @@ struct FeForces {
     for (int i = first; i < last; ++i) element<double>(i, acc);
   }
 
-  // Active elements [first, first + L), L = LaneCount<T>, all of one material.
+  // The lanes of a batch: L = LaneCount<T> active elements of one material from active position
+  // `first`, their mesh indices and corners. consecutive: e[l] = e[0] + l (active() increases),
+  // so their per-element data moves as whole vectors. row: the batch lies along one row of a
+  // structured mesh (structured_row: corner 0 of lane l at node n0 + l, corner 1 at n0 + l + 1,
+  // corner 3 at m0 + l, corner 2 at m0 + l + 1, counter-clockwise), so its node data comes by
+  // vector loads (load_pairs) instead of gathers, and its forces go by two vector adds per row of
+  // nodes instead of 64 scalar ones.
+  template <int L>
+  struct ElementLanes {
+    int first;
+    int e[L], node[4][L];
+    bool consecutive, row;
+  };
+
+  // What an element's step sums over its quadrature points, per lane.
+  template <class T>
+  struct ElementSums {
+    using Mask = decltype(!all_lanes<T>());
+    T plastic, viscous, strain_work, hourglass;  // work of the step (J)
+    T area;                                      // sum of the points' weights (m^2)
+    T div_rate;                                  // smallest velocity divergence, or 0 (1/s)
+    T dt_element;                                // stable step bound (stable_dt.hpp)
+    Mask inverted, convert;                      // a point's weight not positive; flagged
+  };
+
+  // Active elements [first, first + L), L = LaneCount<T>, all of one material: gather the
+  // corners, then per quadrature point the kinematics, the material update and the internal
+  // forces (and the hourglass control of one-point elements), the stable step bound, and the
+  // forces and sums scattered.
   template <class T>
   KOKKOS_INLINE_FUNCTION void element(const int first, FeStepSums& acc) const {
     constexpr int L = LaneCount<T>::value;
-    int e[L], node[4][L];
-    for (int l = 0; l < L; ++l) {
-      e[l] = elements.active(first + l);
-      for (int a = 0; a < 4; ++a) node[a][l] = elements.nodes(e[l], a);
-    }
-    const bool consecutive = e[L - 1] - e[0] == L - 1;  // active() increases
-    const MaterialLaw& mat = materials(elements.material(e[0]));
-    const double c = mat.p_wave_speed;
+    const ElementLanes<L> lanes = element_lanes<L>(first);
+    const MaterialLaw& mat = materials(elements.material(lanes.e[0]));
     T x[4], y[4], vx[4], vy[4], fx[4], fy[4];
-    // Coordinate d of node n at &x(0, d) + n * stride_0 (2 in LayoutRight, the CPU default).
+    gather_corners(lanes, x, y, vx, vy);
+    for (int a = 0; a < 4; ++a) fx[a] = fy[a] = splat<T>(0.0);
+    const T zero = splat<T>(0.0);
+    ElementSums<T> sum{
+        zero, zero, zero, zero, zero, zero, splat<T>(1e300), !all_lanes<T>(), !all_lanes<T>()};
+    for (int g = 0; g < QP; ++g) {
+      T l[4], bx[4], by[4];
+      velocity_gradient(x, y, vx, vy, g, l);
+      const T weight = qp_gradients<QP>(x, y, g, bx, by);
+      sum.inverted = sum.inverted || !(weight > 0.0);  // also catches NaN geometry
+      sum.area += weight;
+      const T volume = weight * p.thickness;
+      const T len = sqrt_(weight * QP);  // the bulk-viscosity length
+      material_point(lanes, g, mat, l, weight, volume, len, bx, by, fx, fy, sum);
+      if constexpr (QP == 1) {
+        T b2, sqrt_b2;
+        hourglass(lanes, mat, x, y, vx, vy, bx, by, weight, fx, fy, sum.hourglass, b2, sqrt_b2);
+        // len is sqrt(weight) here (QP = 1).
+        sum.dt_element = one_point_stable_dt(b2, sqrt_b2, len, sum.div_rate, mat.p_wave_speed,
+                                             p.bulk_linear, p.bulk_quadratic);
+      }
+    }
+    if constexpr (QP == 4)
+      sum.dt_element = full_integration_stable_dt(
+          x, y, sqrt_(sum.area), sum.div_rate, mat.p_wave_speed, p.bulk_linear, p.bulk_quadratic);
+    // Recoverable energy = stress work - plastic dissipation, both integrated per step (a state
+    // function 1/2 s:C^-1:s V would drift against the nodal work as V changes).
+    add_lanes(sum.strain_work - sum.plastic, elements.recoverable_work.data(), lanes.e,
+              lanes.consecutive);
+    scatter(lanes, fx, fy);
+    reduce(lanes, sum, acc);
+  }
+
+  // ---- Gather ---------------------------------------------------------------------------------
+
+  template <int L>
+  KOKKOS_FORCEINLINE_FUNCTION ElementLanes<L> element_lanes(const int first) const {
+    ElementLanes<L> lanes;
+    lanes.first = first;
+    for (int l = 0; l < L; ++l) {
+      lanes.e[l] = elements.active(first + l);
+      for (int a = 0; a < 4; ++a) lanes.node[a][l] = elements.nodes(lanes.e[l], a);
+    }
+    lanes.consecutive = lanes.e[L - 1] - lanes.e[0] == L - 1;
+    lanes.row = L > 1 && nodes.x.stride_0() == 2 && nodes.v.stride_0() == 2 &&
+                nodes.f.stride_0() == 2 && structured_row<L>(lanes.node);
+    return lanes;
+  }
+
+  // Positions and velocities of the lanes' corners. Coordinate d of node n at &x(0, d) +
+  // n * stride_0 (2 in LayoutRight, the CPU default).
+  template <class T, int L>
+  KOKKOS_FORCEINLINE_FUNCTION void gather_corners(const ElementLanes<L>& lanes, T (&x)[4],
+                                                  T (&y)[4], T (&vx)[4], T (&vy)[4]) const {
     const int x_stride = static_cast<int>(nodes.x.stride_0());
     const int v_stride = static_cast<int>(nodes.v.stride_0());
-    // A batch along one row of a structured mesh: corner 0 of lane l at node n0 + l, corner 1 at
-    // n0 + l + 1, corner 3 at m0 + l, corner 2 at m0 + l + 1 (counter-clockwise). Its node data
-    // then comes by vector loads (load_pairs) instead of gathers, and its forces go by two vector
-    // adds per row of nodes instead of 64 scalar ones.
-    const bool row = L > 1 && x_stride == 2 && v_stride == 2 && nodes.f.stride_0() == 2 &&
-                     structured_row<L>(node);
     for (int a = 0; a < 4; ++a) {
-      fx[a] = fy[a] = splat<T>(0.0);
 #ifdef FRACTA_HOST_SIMD
       if constexpr (L > 1) {
-        if (row) {
-          load_pairs(&nodes.x(0, 0) + 2 * node[a][0], x[a], y[a]);
-          load_pairs(&nodes.v(0, 0) + 2 * node[a][0], vx[a], vy[a]);
+        if (lanes.row) {
+          load_pairs(&nodes.x(0, 0) + 2 * lanes.node[a][0], x[a], y[a]);
+          load_pairs(&nodes.v(0, 0) + 2 * lanes.node[a][0], vx[a], vy[a]);
           continue;
         }
       }
 #endif
-      x[a] = gather_lanes<T>(&nodes.x(0, 0), node[a], x_stride);
-      y[a] = gather_lanes<T>(&nodes.x(0, 1), node[a], x_stride);
-      vx[a] = gather_lanes<T>(&nodes.v(0, 0), node[a], v_stride);
-      vy[a] = gather_lanes<T>(&nodes.v(0, 1), node[a], v_stride);
+      x[a] = gather_lanes<T>(&nodes.x(0, 0), lanes.node[a], x_stride);
+      y[a] = gather_lanes<T>(&nodes.x(0, 1), lanes.node[a], x_stride);
+      vx[a] = gather_lanes<T>(&nodes.v(0, 0), lanes.node[a], v_stride);
+      vy[a] = gather_lanes<T>(&nodes.v(0, 1), lanes.node[a], v_stride);
     }
-    T plastic = splat<T>(0.0), viscous = plastic, strain_work = plastic, area = plastic;
-    T hourglass = plastic;
-    T div_rate = plastic, dt_element = splat<T>(1e300);
-    auto inverted = !all_lanes<T>(), convert = inverted;
+  }
 
-    for (int g = 0; g < QP; ++g) {
-      // Strain rate and spin at the mid-step configuration x(n+1/2) = x(n+1) - dt/2 v(n+1/2)
-      // (second-order accurate, and what keeps the energy balance free of drift); forces at
-      // the current configuration x(n+1).
-      T xm[4], ym[4], bx[4], by[4];
-      for (int a = 0; a < 4; ++a) {
-        xm[a] = x[a] - 0.5 * p.dt * vx[a];
-        ym[a] = y[a] - 0.5 * p.dt * vy[a];
-      }
-      qp_gradients<QP>(xm, ym, g, bx, by);
-      T lxx = splat<T>(0.0), lxy = lxx, lyx = lxx, lyy = lxx;  // L_ij = dv_i/dx_j
-      for (int a = 0; a < 4; ++a) {
-        lxx += vx[a] * bx[a];
-        lxy += vx[a] * by[a];
-        lyx += vy[a] * bx[a];
-        lyy += vy[a] * by[a];
-      }
-      const T weight = qp_gradients<QP>(x, y, g, bx, by);
-      inverted = inverted || !(weight > 0.0);  // also catches NaN geometry
-      area += weight;
-      const T volume = weight * p.thickness;
-      int q[L];
-      T s[4], epeq, volume_old, viscosity_old;
-      for (int l = 0; l < L; ++l) q[l] = e[l] * QP + g;
-      const bool q_consecutive = consecutive && QP == 1;
-      for (int k = 0; k < 4; ++k) s[k] = load_lanes<T>(&elements.stress(0, k), q, q_consecutive);
-      epeq = load_lanes<T>(elements.epeq.data(), q, q_consecutive);
-      volume_old = load_lanes<T>(elements.qp_volume.data(), q, q_consecutive);
-      viscosity_old = load_lanes<T>(elements.bulk_viscosity.data(), q, q_consecutive);
-      // The strain increment is measured at the mid-step configuration, so it is added in the
-      // mid-step frame: rotate by half the step's spin, update, rotate by the other half.
-      // Rotating by the whole spin first would add each increment in a frame turned by half a
-      // step, a circulatory coupling of the deviatoric modes that makes a spinning body
-      // unstable (energy growth ~ exp(omega * c dt / h * t), after ~60 rad at dt_safety 0.85).
-      T rot_c, rot_s;  // the half-step rotation, used twice
-      cayley_rotation<T>(0.25 * (lxy - lyx) * p.dt, rot_c, rot_s);
-      rotate_stress(s, rot_c, rot_s);
-      const T deps[3] = {lxx * p.dt, lyy * p.dt, 0.5 * (lxy + lyx) * p.dt};
-      const T s_old[4] = {s[0], s[1], s[2], s[3]};
-      elastic_increment(mat, deps, s);
-      const auto full_update = may_leave_elastic(mat, s, epeq);
-      if (any_lane(full_update)) {
-        for (int l = 0; l < L; ++l) {
-          if (!get_lane(full_update, l)) continue;
-          double sl[4] = {get_lane(s_old[0], l), get_lane(s_old[1], l), get_lane(s_old[2], l),
-                          get_lane(s_old[3], l)};
-          const double dl[3] = {get_lane(deps[0], l), get_lane(deps[1], l), get_lane(deps[2], l)};
-          double ep = get_lane(epeq, l);
-          const double work = update_stress(mat, dl, sl, ep) * get_lane(volume, l);
-          set_lane(plastic, l, get_lane(plastic, l) + work);
-          set_lane(epeq, l, ep);
-          for (int k = 0; k < 4; ++k) set_lane(s[k], l, sl[k]);
-        }
-      }
-      // Stress work by the trapezoidal rule (as the nodal work of central differences):
-      // dW = (s(n) + s(n+1))/2 : deps * V(n+1/2). In plane strain deps_zz = 0; in plane
-      // stress s_zz = 0, so the in-plane terms are the whole product.
-      strain_work += 0.5 *
-                     ((s_old[0] + s[0]) * deps[0] + (s_old[1] + s[1]) * deps[1] +
-                      2.0 * (s_old[3] + s[3]) * deps[2]) *
-                     0.5 * (volume_old + volume);
-      rotate_stress(s, rot_c, rot_s);
-      if (conversion_pending.data() != nullptr) {
-        // ConversionCriterion on the values in hand, without its square root: the largest
-        // principal stress c + r reaches T' when T' - c <= 0 or r^2 >= (T' - c)^2. Generous
-        // (r within 5e-7 of T' - c, or c within 1e-9 T' of T'), far beyond the round-off of
-        // either form, so every element the exact criterion takes is flagged: the conversion
-        // re-checks only the flagged ones exactly, and a false alarm costs one check.
-        if (mat.conversion_strain > 0.0) convert = convert || epeq >= mat.conversion_strain;
-        if (on_tension && mat.tensile_strength > 0.0) {
-          const T centre = 0.5 * (s[0] + s[1]);
-          const T r2 = 0.25 * (s[0] - s[1]) * (s[0] - s[1]) + s[3] * s[3];
-          const double limit = mat.tensile_strength * (1.0 - 1e-9);
-          const T d = limit - centre;
-          convert = convert || d <= 1e-9 * limit || r2 >= d * d * (1.0 - 1e-6);
-        }
-      }
+  // ---- Kinematics -----------------------------------------------------------------------------
 
-      // Artificial bulk viscosity in compression (linear + quadratic, as LS-DYNA/Abaqus):
-      // q = rho l (C2 l div^2 - C1 c div) for div < 0; it acts as a pressure on the forces only.
-      const T div = lxx + lyy;
-      const T len = sqrt_(weight * QP);
-      const T qv =
-          div < 0.0 && weight > 0.0
-              ? mat.density * len * (p.bulk_quadratic * len * div * div - p.bulk_linear * c * div)
-              : splat<T>(0.0);
-      // Trapezoidal work of the viscous pressure (see the hourglass work below).
-      viscous += -0.5 * (viscosity_old + qv) * div * volume * p.dt;
-      for (int k = 0; k < 4; ++k) store_lanes(s[k], &elements.stress(0, k), q, q_consecutive);
-      // epeq changes only in the return mapping, and the viscous pressure of an element out of
-      // compression stays 0: storing an unchanged value would only write its cache line back
-      // (8 B per element-step each; most elements are elastic, half are out of compression).
-      if (any_lane(full_update)) store_lanes(epeq, elements.epeq.data(), q, q_consecutive);
-      store_lanes(volume, elements.qp_volume.data(), q, q_consecutive);
-      if (any_lane(qv != viscosity_old))
-        store_lanes(qv, elements.bulk_viscosity.data(), q, q_consecutive);
-      div_rate = div_rate < div ? div_rate : div;
-      const T sxx = s[0] - qv, syy = s[1] - qv, sxy = s[3];
-      for (int a = 0; a < 4; ++a) {
-        fx[a] -= volume * (sxx * bx[a] + sxy * by[a]);
-        fy[a] -= volume * (sxy * bx[a] + syy * by[a]);
-      }
-
-      if constexpr (QP == 1) {
-        // Flanagan-Belytschko hourglass control: gamma_a = 1/4 (h_a - (h.x_i) b_ia) is
-        // orthogonal to every linear field, so it resists only the hourglass mode.
-        const double h[4] = {1.0, -1.0, 1.0, -1.0};
-        T hx = splat<T>(0.0), hy = hx;
-        for (int a = 0; a < 4; ++a) {
-          hx += h[a] * x[a];
-          hy += h[a] * y[a];
-        }
-        T gamma[4];
-        T qdot_x = splat<T>(0.0), qdot_y = qdot_x;
-        for (int a = 0; a < 4; ++a) {
-          gamma[a] = 0.25 * (h[a] - hx * bx[a] - hy * by[a]);
-          qdot_x += vx[a] * gamma[a];
-          qdot_y += vy[a] * gamma[a];
-        }
-        T b2 = splat<T>(0.0);
-        for (int a = 0; a < 4; ++a) b2 += bx[a] * bx[a] + by[a] * by[a];
-        const T sqrt_b2 = sqrt_(b2);
-        T gx, gy;  // generalized hourglass force
-        if (p.hourglass_stiffness) {
-          // k = kappa (P-wave modulus) t A sum(b.b): an element-size-independent stiffness.
-          const T k = p.hourglass_coefficient * mat.p_wave_modulus() * p.thickness * weight * b2;
-          double* qx_column = &elements.hourglass_disp(0, 0);
-          double* qy_column = &elements.hourglass_disp(0, 1);
-          const T qx = load_lanes<T>(qx_column, e, consecutive) + qdot_x * p.dt;
-          const T qy = load_lanes<T>(qy_column, e, consecutive) + qdot_y * p.dt;
-          store_lanes(qx, qx_column, e, consecutive);
-          store_lanes(qy, qy_column, e, consecutive);
-          gx = k * qx;
-          gy = k * qy;
-        } else {
-          // Viscous: damping coefficient kappa rho c t A sqrt(sum b.b) (kg/s).
-          const T cv = p.hourglass_coefficient * mat.density * c * p.thickness * weight * sqrt_b2;
-          gx = cv * qdot_x;
-          gy = cv * qdot_y;
-        }
-        // Work of the hourglass forces by the trapezoidal rule dW = (g(n) + g(n+1))/2 . dq,
-        // the rule under which central differences conserve energy exactly up to a bounded
-        // O(dt^2) term (exact for the stiffness form's stored energy k q^2 / 2).
-        double* gx_column = &elements.hourglass_force(0, 0);
-        double* gy_column = &elements.hourglass_force(0, 1);
-        const T gx_old = load_lanes<T>(gx_column, e, consecutive);
-        const T gy_old = load_lanes<T>(gy_column, e, consecutive);
-        const T work = 0.5 * ((gx_old + gx) * qdot_x + (gy_old + gy) * qdot_y) * p.dt;
-        hourglass += work;
-        store_lanes(gx, gx_column, e, consecutive);
-        store_lanes(gy, gy_column, e, consecutive);
-        for (int a = 0; a < 4; ++a) {
-          fx[a] -= gx * gamma[a];
-          fy[a] -= gy * gamma[a];
-        }
-        // Stable step of the one-point element: omega_max^2 <= 4 c^2 sum(b.b) (FB 1981), i.e.
-        // dt <= l / c with l = 1/sqrt(sum b.b) (h/sqrt(2) for a square of side h).
-        // Without bulk viscosity (no compression) this is 1 / (c sqrt(sum b.b)). len is
-        // sqrt(weight) here (QP = 1).
-        const T qs = div_rate < 0.0 ? p.bulk_quadratic * len * (-div_rate) + p.bulk_linear * c
-                                    : splat<T>(0.0);
-        dt_element = !(b2 > 0.0) ? splat<T>(0.0)
-                     : qs > 0.0  ? 1.0 / (sqrt_b2 * (qs + sqrt_(qs * qs + c * c)))
-                                 : 1.0 / (sqrt_b2 * c);
-      }
+  // Velocity gradient l = (L_xx, L_xy, L_yx, L_yy), L_ij = dv_i/dx_j, at point g, measured at the
+  // mid-step configuration x(n+1/2) = x(n+1) - dt/2 v(n+1/2) (second-order accurate, and what
+  // keeps the energy balance free of drift); the forces are at the current configuration x(n+1).
+  template <class T>
+  KOKKOS_FORCEINLINE_FUNCTION void velocity_gradient(const T (&x)[4], const T (&y)[4],
+                                                     const T (&vx)[4], const T (&vy)[4],
+                                                     const int g, T (&l)[4]) const {
+    T xm[4], ym[4], bx[4], by[4];
+    for (int a = 0; a < 4; ++a) {
+      xm[a] = x[a] - 0.5 * p.dt * vx[a];
+      ym[a] = y[a] - 0.5 * p.dt * vy[a];
     }
-    if constexpr (QP == 4) {
-      // 2x2 Gauss: for a square the largest element eigenvalue of M^-1 K equals the one-point
-      // bound 4 c^2 sum(b.b) (checked numerically for nu = 0 ... 0.49); the factor 0.9 covers
-      // distorted elements, for which the full-integration stiffness can exceed it slightly.
-      const T A = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
-      T b2 = splat<T>(0.0);
-      for (int a = 0; a < 4; ++a) {
-        const T bxa = (y[(a + 1) % 4] - y[(a + 3) % 4]) / (2.0 * A);
-        const T bya = (x[(a + 3) % 4] - x[(a + 1) % 4]) / (2.0 * A);
-        b2 += bxa * bxa + bya * bya;
-      }
-      const T len = A > 0.0 ? kFullIntegrationDtFactor / sqrt_(b2) : splat<T>(0.0);
-      const T qs = div_rate < 0.0 ? p.bulk_quadratic * sqrt_(area) * (-div_rate) + p.bulk_linear * c
-                                  : splat<T>(0.0);
-      dt_element = len / (qs + sqrt_(qs * qs + c * c));
+    qp_gradients<QP>(xm, ym, g, bx, by);
+    T lxx = splat<T>(0.0), lxy = lxx, lyx = lxx, lyy = lxx;
+    for (int a = 0; a < 4; ++a) {
+      lxx += vx[a] * bx[a];
+      lxy += vx[a] * by[a];
+      lyx += vy[a] * bx[a];
+      lyy += vy[a] * by[a];
     }
-    // Recoverable energy = stress work - plastic dissipation, both integrated per step (a state
-    // function 1/2 s:C^-1:s V would drift against the nodal work as V changes).
-    add_lanes(strain_work - plastic, elements.recoverable_work.data(), e, consecutive);
-    bool scattered = false;
+    l[0] = lxx;
+    l[1] = lxy;
+    l[2] = lyx;
+    l[3] = lyy;
+  }
+
+  // ---- Material update ------------------------------------------------------------------------
+
+  // Point g of the lanes: the stress update (update_point_stress), the conversion flag, the bulk
+  // viscosity, the point's state written back, and its internal forces -volume s.b_a added to
+  // fx, fy.
+  template <class T, int L>
+  KOKKOS_FORCEINLINE_FUNCTION void material_point(const ElementLanes<L>& lanes, const int g,
+                                                  const MaterialLaw& mat, const T (&l)[4],
+                                                  const T& weight, const T& volume, const T& len,
+                                                  const T (&bx)[4], const T (&by)[4], T (&fx)[4],
+                                                  T (&fy)[4], ElementSums<T>& sum) const {
+    int q[L];
+    for (int k = 0; k < L; ++k) q[k] = lanes.e[k] * QP + g;
+    const bool q_consecutive = lanes.consecutive && QP == 1;
+    T s[4];
+    for (int k = 0; k < 4; ++k) s[k] = load_lanes<T>(&elements.stress(0, k), q, q_consecutive);
+    T epeq = load_lanes<T>(elements.epeq.data(), q, q_consecutive);
+    const T volume_old = load_lanes<T>(elements.qp_volume.data(), q, q_consecutive);
+    const T viscosity_old = load_lanes<T>(elements.bulk_viscosity.data(), q, q_consecutive);
+    const auto full_update = update_point_stress(mat, l, volume, volume_old, s, epeq, sum);
+    if (conversion_pending.data() != nullptr) flag_conversion(mat, s, epeq, sum.convert);
+
+    // Artificial bulk viscosity in compression (linear + quadratic, as LS-DYNA/Abaqus):
+    // q = rho l (C2 l div^2 - C1 c div) for div < 0; it acts as a pressure on the forces only.
+    const T div = l[0] + l[3];
+    const T qv =
+        div < 0.0 && weight > 0.0
+            ? mat.density * len *
+                  (p.bulk_quadratic * len * div * div - p.bulk_linear * mat.p_wave_speed * div)
+            : splat<T>(0.0);
+    // Trapezoidal work of the viscous pressure (see the hourglass work).
+    sum.viscous += -0.5 * (viscosity_old + qv) * div * volume * p.dt;
+    for (int k = 0; k < 4; ++k) store_lanes(s[k], &elements.stress(0, k), q, q_consecutive);
+    // epeq changes only in the return mapping, and the viscous pressure of an element out of
+    // compression stays 0: storing an unchanged value would only write its cache line back
+    // (8 B per element-step each; most elements are elastic, half are out of compression).
+    if (any_lane(full_update)) store_lanes(epeq, elements.epeq.data(), q, q_consecutive);
+    store_lanes(volume, elements.qp_volume.data(), q, q_consecutive);
+    if (any_lane(qv != viscosity_old))
+      store_lanes(qv, elements.bulk_viscosity.data(), q, q_consecutive);
+    sum.div_rate = sum.div_rate < div ? sum.div_rate : div;
+    const T sxx = s[0] - qv, syy = s[1] - qv, sxy = s[3];
+    for (int a = 0; a < 4; ++a) {
+      fx[a] -= volume * (sxx * bx[a] + sxy * by[a]);
+      fy[a] -= volume * (sxy * bx[a] + syy * by[a]);
+    }
+  }
+
+  // The stress s (xx, yy, zz, xy) and epeq of a point after the step of velocity gradient l
+  // (materials.hpp), its plastic and stress work added to the sums; returns the lanes that took
+  // the full update. The strain increment is measured at the mid-step configuration, so it is
+  // added in the mid-step frame: rotate by half the step's spin, update, rotate by the other half
+  // (the Jaumann rate). Rotating by the whole spin first would add each increment in a frame
+  // turned by half a step, a circulatory coupling of the deviatoric modes that makes a spinning
+  // body unstable (energy growth ~ exp(omega * c dt / h * t), after ~60 rad at dt_safety 0.85).
+  // Every lane takes the elastic trial, and the lanes that may_leave_elastic marks (yielding, or
+  // near the conversion stresses) redo the whole update_stress one at a time, since return
+  // mappings iterate.
+  template <class T>
+  KOKKOS_FORCEINLINE_FUNCTION auto update_point_stress(const MaterialLaw& mat, const T (&l)[4],
+                                                       const T& volume, const T& volume_old,
+                                                       T (&s)[4], T& epeq,
+                                                       ElementSums<T>& sum) const {
+    constexpr int L = LaneCount<T>::value;
+    T rot_c, rot_s;  // the half-step rotation, used twice
+    cayley_rotation<T>(0.25 * (l[1] - l[2]) * p.dt, rot_c, rot_s);
+    rotate_stress(s, rot_c, rot_s);
+    const T deps[3] = {l[0] * p.dt, l[3] * p.dt, 0.5 * (l[1] + l[2]) * p.dt};
+    const T s_old[4] = {s[0], s[1], s[2], s[3]};
+    elastic_increment(mat, deps, s);
+    const auto full_update = may_leave_elastic(mat, s, epeq);
+    if (any_lane(full_update)) {
+      T plastic = sum.plastic;  // a local for the lane writes, so `sum` stays in registers
+      for (int k = 0; k < L; ++k) {
+        if (!get_lane(full_update, k)) continue;
+        double sl[4] = {get_lane(s_old[0], k), get_lane(s_old[1], k), get_lane(s_old[2], k),
+                        get_lane(s_old[3], k)};
+        const double dl[3] = {get_lane(deps[0], k), get_lane(deps[1], k), get_lane(deps[2], k)};
+        double ep = get_lane(epeq, k);
+        const double work = fracta::update_stress(mat, dl, sl, ep) * get_lane(volume, k);
+        set_lane(plastic, k, get_lane(plastic, k) + work);
+        set_lane(epeq, k, ep);
+        for (int c = 0; c < 4; ++c) set_lane(s[c], k, sl[c]);
+      }
+      sum.plastic = plastic;
+    }
+    // Stress work by the trapezoidal rule (as the nodal work of central differences):
+    // dW = (s(n) + s(n+1))/2 : deps * V(n+1/2). In plane strain deps_zz = 0; in plane
+    // stress s_zz = 0, so the in-plane terms are the whole product.
+    sum.strain_work += 0.5 *
+                       ((s_old[0] + s[0]) * deps[0] + (s_old[1] + s[1]) * deps[1] +
+                        2.0 * (s_old[3] + s[3]) * deps[2]) *
+                       0.5 * (volume_old + volume);
+    rotate_stress(s, rot_c, rot_s);
+    return full_update;
+  }
+
+  // ConversionCriterion on the values in hand, without its square root: the largest principal
+  // stress c + r reaches T' when T' - c <= 0 or r^2 >= (T' - c)^2. Generous (r within 5e-7 of
+  // T' - c, or c within 1e-9 T' of T'), far beyond the round-off of either form, so every
+  // element the exact criterion takes is flagged: the conversion re-checks only the flagged ones
+  // exactly, and a false alarm costs one check.
+  template <class T, class Mask>
+  KOKKOS_FORCEINLINE_FUNCTION void flag_conversion(const MaterialLaw& mat, const T (&s)[4],
+                                                   const T& epeq, Mask& convert) const {
+    if (mat.conversion_strain > 0.0) convert = convert || epeq >= mat.conversion_strain;
+    if (on_tension && mat.tensile_strength > 0.0) {
+      const T centre = 0.5 * (s[0] + s[1]);
+      const T r2 = 0.25 * (s[0] - s[1]) * (s[0] - s[1]) + s[3] * s[3];
+      const double limit = mat.tensile_strength * (1.0 - 1e-9);
+      const T d = limit - centre;
+      convert = convert || d <= 1e-9 * limit || r2 >= d * d * (1.0 - 1e-6);
+    }
+  }
+
+  // ---- Hourglass control ----------------------------------------------------------------------
+
+  // Flanagan-Belytschko hourglass control of a one-point element: gamma_a = 1/4 (h_a - (h.x_i)
+  // b_ia) is orthogonal to every linear field, so it resists only the hourglass mode. Adds the
+  // generalized hourglass force's nodal forces to fx, fy and its work to `work`; b2 = sum b.b and
+  // sqrt_b2 its root (for the stable step).
+  template <class T, int L>
+  KOKKOS_FORCEINLINE_FUNCTION void hourglass(const ElementLanes<L>& lanes, const MaterialLaw& mat,
+                                             const T (&x)[4], const T (&y)[4], const T (&vx)[4],
+                                             const T (&vy)[4], const T (&bx)[4], const T (&by)[4],
+                                             const T& weight, T (&fx)[4], T (&fy)[4], T& work,
+                                             T& b2, T& sqrt_b2) const {
+    const double h[4] = {1.0, -1.0, 1.0, -1.0};
+    T hx = splat<T>(0.0), hy = hx;
+    for (int a = 0; a < 4; ++a) {
+      hx += h[a] * x[a];
+      hy += h[a] * y[a];
+    }
+    T gamma[4];
+    T qdot_x = splat<T>(0.0), qdot_y = qdot_x;
+    for (int a = 0; a < 4; ++a) {
+      gamma[a] = 0.25 * (h[a] - hx * bx[a] - hy * by[a]);
+      qdot_x += vx[a] * gamma[a];
+      qdot_y += vy[a] * gamma[a];
+    }
+    b2 = splat<T>(0.0);
+    for (int a = 0; a < 4; ++a) b2 += bx[a] * bx[a] + by[a] * by[a];
+    sqrt_b2 = sqrt_(b2);
+    T gx, gy;  // generalized hourglass force
+    if (p.hourglass_stiffness) {
+      // k = kappa (P-wave modulus) t A sum(b.b): an element-size-independent stiffness.
+      const T k = p.hourglass_coefficient * mat.p_wave_modulus() * p.thickness * weight * b2;
+      double* qx_column = &elements.hourglass_disp(0, 0);
+      double* qy_column = &elements.hourglass_disp(0, 1);
+      const T qx = load_lanes<T>(qx_column, lanes.e, lanes.consecutive) + qdot_x * p.dt;
+      const T qy = load_lanes<T>(qy_column, lanes.e, lanes.consecutive) + qdot_y * p.dt;
+      store_lanes(qx, qx_column, lanes.e, lanes.consecutive);
+      store_lanes(qy, qy_column, lanes.e, lanes.consecutive);
+      gx = k * qx;
+      gy = k * qy;
+    } else {
+      // Viscous: damping coefficient kappa rho c t A sqrt(sum b.b) (kg/s).
+      const T cv =
+          p.hourglass_coefficient * mat.density * mat.p_wave_speed * p.thickness * weight * sqrt_b2;
+      gx = cv * qdot_x;
+      gy = cv * qdot_y;
+    }
+    // Work of the hourglass forces by the trapezoidal rule dW = (g(n) + g(n+1))/2 . dq, the rule
+    // under which central differences conserve energy exactly up to a bounded O(dt^2) term
+    // (exact for the stiffness form's stored energy k q^2 / 2).
+    double* gx_column = &elements.hourglass_force(0, 0);
+    double* gy_column = &elements.hourglass_force(0, 1);
+    const T gx_old = load_lanes<T>(gx_column, lanes.e, lanes.consecutive);
+    const T gy_old = load_lanes<T>(gy_column, lanes.e, lanes.consecutive);
+    work += 0.5 * ((gx_old + gx) * qdot_x + (gy_old + gy) * qdot_y) * p.dt;
+    store_lanes(gx, gx_column, lanes.e, lanes.consecutive);
+    store_lanes(gy, gy_column, lanes.e, lanes.consecutive);
+    for (int a = 0; a < 4; ++a) {
+      fx[a] -= gx * gamma[a];
+      fy[a] -= gy * gamma[a];
+    }
+  }
+
+  // ---- Scatter --------------------------------------------------------------------------------
+
+  // The lanes' corner forces added into nodes.f. Along a row (CPU chunk path): node n0 + l takes
+  // corner 0 of lane l and corner 1 of lane l - 1, and n0 + 8 corner 1 of lane 7 (likewise m0
+  // with corners 3 and 2). Otherwise element by element in lane order, so a node shared by two
+  // lanes sums them in element order.
+  template <class T, int L>
+  KOKKOS_FORCEINLINE_FUNCTION void scatter(const ElementLanes<L>& lanes, const T (&fx)[4],
+                                           const T (&fy)[4]) const {
 #ifdef FRACTA_HOST_SIMD
     if constexpr (L > 1) {
-      if (row && !atomic) {
-        // Node n0 + l takes corner 0 of lane l and corner 1 of lane l - 1, and n0 + 8 corner 1
-        // of lane 7 (likewise m0 with corners 3 and 2).
+      if (lanes.row && !atomic) {
         double* f = nodes.f.data();
-        const int rows[2][3] = {{node[0][0], 0, 1}, {node[3][0], 3, 2}};
+        const int rows[2][3] = {{lanes.node[0][0], 0, 1}, {lanes.node[3][0], 3, 2}};
         for (const auto& r : rows) {
           const int n0 = r[0], a = r[1], b = r[2];
           add_pairs(f + 2 * n0, fx[a] + shift_up_one_lane(fx[b]), fy[a] + shift_up_one_lane(fy[b]));
           f[2 * (n0 + L)] += fx[b][L - 1];
           f[2 * (n0 + L) + 1] += fy[b][L - 1];
         }
-        scattered = true;
+        return;
       }
     }
 #endif
-    // Otherwise element by element in lane order, so a node shared by two lanes sums them in
-    // element order.
-    for (int l = 0; l < L && !scattered; ++l)
+    for (int l = 0; l < L; ++l)
       for (int a = 0; a < 4; ++a) {
-        scatter_add(&nodes.f(node[a][l], 0), get_lane(fx[a], l), atomic);
-        scatter_add(&nodes.f(node[a][l], 1), get_lane(fy[a], l), atomic);
+        scatter_add(&nodes.f(lanes.node[a][l], 0), get_lane(fx[a], l), atomic);
+        scatter_add(&nodes.f(lanes.node[a][l], 1), get_lane(fy[a], l), atomic);
       }
+  }
+
+  // The lanes' sums into the reduction, and the flagged elements of the adaptive set counted
+  // (the first conversion_candidates.extent(0) keep their active index).
+  template <class T, int L>
+  KOKKOS_FORCEINLINE_FUNCTION void reduce(const ElementLanes<L>& lanes, const ElementSums<T>& sum,
+                                          FeStepSums& acc) const {
     for (int l = 0; l < L; ++l) {
-      const double dt_e = get_lane(dt_element, l);
+      const double dt_e = get_lane(sum.dt_element, l);
       acc.dt_min = acc.dt_min < dt_e ? acc.dt_min : dt_e;
-      if (get_lane(inverted, l)) acc.dt_min = -1.0;  // signals an inverted element to the host
-      acc.plastic += get_lane(plastic, l);
-      acc.hourglass += get_lane(hourglass, l);
-      acc.viscous += get_lane(viscous, l);
-      if (get_lane(convert, l) && adaptive(e[l])) {
-        // Counts the flags; the first conversion_candidates.extent(0) keep their active index.
+      if (get_lane(sum.inverted, l)) acc.dt_min = -1.0;  // signals an inverted element to the host
+      acc.plastic += get_lane(sum.plastic, l);
+      acc.hourglass += get_lane(sum.hourglass, l);
+      acc.viscous += get_lane(sum.viscous, l);
+      if (get_lane(sum.convert, l) && adaptive(lanes.e[l])) {
         acc.flagged += 1.0;
         const int slot = Kokkos::atomic_fetch_add(&conversion_pending(), 1);
         if (slot >= 0 && slot < static_cast<int>(conversion_candidates.extent(0)))
-          conversion_candidates(slot) = first + l;
+          conversion_candidates(slot) = lanes.first + l;
       }
     }
   }
-
-  static constexpr double kFullIntegrationDtFactor = 0.9;
 };
 
 // Launches the element kernel, which adds the element forces to nodes.f; returns the smallest
@@ -490,8 +586,8 @@ inline FeStepSums launch_fe_forces(const char* name, FeForces<QP> kernel) {
 
 // The views the element kernel uses (node_motion_views and these): each view a kernel's functor
 // holds costs an atomic per host copy (for_each_chunk, scatter.hpp), and an adaptive body's disc
-// and cell views, which the element kernel never reads, would make its launch dearer than pure FE's
-// (issue 5, item 5).
+// and cell views, which the element kernel never reads, would make its launch dearer than pure
+// FE's.
 inline Elements fe_element_views(const Elements& elements) {
   Elements k;
   k.nodes = elements.nodes;
@@ -526,26 +622,6 @@ inline FeStepSums compute_fe_forces(const Nodes& nodes, const Elements& elements
                           FeForces<4>{node_motion_views(nodes), fe_element_views(elements),
                                       materials, p, criterion.adaptive, criterion.on_tension,
                                       conversion_pending, conversion_candidates});
-}
-
-// The scatter plan of the elements (kernels/scatter.hpp), cut once from the mesh and located in
-// the active list after every change of it.
-inline void update_scatter_plan(Elements& elements) {
-  if (elements.scatter.universe == elements.count) {
-    locate_scatter_chunks(elements.scatter, elements.active, elements.active_count);
-    return;
-  }
-  const auto element_nodes = elements.nodes;
-  build_scatter_plan(
-      elements.scatter, elements.count,
-      KOKKOS_LAMBDA(const int e, int& lo, int& hi) {
-        lo = hi = element_nodes(e, 0);
-        for (int a = 1; a < 4; ++a) {
-          lo = min_(lo, element_nodes(e, a));
-          hi = max_(hi, element_nodes(e, a));
-        }
-      },
-      elements.active, elements.active_count);
 }
 
 }  // namespace fracta

@@ -1,4 +1,4 @@
-// Fragment statistics (DESIGN.md 1.3): connected components of the mesh nodes over intact
+// Fragment statistics (docs/physics.md 1.3): connected components of the mesh nodes over intact
 // bonds and alive elements, with their count, masses and sizes.
 //
 // Convention
@@ -10,7 +10,7 @@
 //    1 node. An intact body is 1 fragment; separate bodies are separate fragments.
 //  - Labels are canonical: label(i) = smallest node id of i's fragment. They do not depend on
 //    thread count, scheduling or backend.
-//  - Fragment mass = sum of nodes.mass over its nodes (the node mass never changes, DESIGN.md
+//  - Fragment mass = sum of nodes.mass over its nodes (the node mass never changes, docs/physics.md
 //    1.3, so the fragment masses always add up to the model's mass). Counts, sizes and labels
 //    are exact; a mass is a sum in an unspecified (atomic) order, i.e. reproducible to
 //    round-off (~1e-16 relative).

@@ -239,7 +239,7 @@ double run_kick(const char* name, Kick kick) {
 // The node views a kick uses, the disc views only while some node is a disc (rotations): each
 // view a kernel's functor holds costs an atomic per host copy (for_each_chunk, scatter.hpp), so
 // an adaptive body's disc views, which the kicks leave alone until a cell converts, would make
-// its kicks dearer than pure FE's (issue 5, item 5).
+// its kicks dearer than pure FE's.
 inline Nodes kick_views(const Nodes& nodes, const bool rotations) {
   Nodes k = node_motion_views(nodes);
   k.f_ext = nodes.f_ext;

@@ -1,4 +1,4 @@
-// Pointwise material laws (DESIGN.md 1.1): device functions on one material point, no virtual
+// Pointwise material laws (docs/physics.md 1.1): device functions on one material point, no virtual
 // calls. Loops that apply them live in fe_forces.hpp.
 //
 // Conventions: stress in Pa, tension positive, s[0]=xx, s[1]=yy, s[2]=zz, s[3]=xy.
@@ -340,8 +340,8 @@ KOKKOS_INLINE_FUNCTION bool rankine_return(const MaterialLaw& m, double T, doubl
 // normally admissible (it was in every one of ~10^7 random trial states tried); since a finite
 // cut-off step is not covered by that first-order argument, the pair is repeated as a safeguard
 // if the cone is violated afterwards (free when it is not). epeq grows by sqrt(2/3 dep:dep) of the
-// step's total 3D plastic strain (DESIGN 1.1, paper Eq. 13). Returns the sum of the sub-steps'
-// plastic work (each >= 0).
+// step's total 3D plastic strain (docs/physics.md 1.1, paper Eq. 13). Returns the sum of the
+// sub-steps' plastic work (each >= 0).
 KOKKOS_INLINE_FUNCTION double mohr_coulomb_return_3d(const MaterialLaw& m, double s[4],
                                                      double& epeq) {
   double alpha, k;
@@ -501,7 +501,7 @@ KOKKOS_INLINE_FUNCTION auto may_leave_elastic(const MaterialLaw& m, const T s_tr
 // equivalent plastic strain epeq = sqrt(2/3 dep_ij dep_ij) summed over increments (paper Eq. 13).
 // Returns the plastic dissipation density of the increment (J/m^3, >= 0): the backward-Euler
 // plastic work s_new : dep (for mohr_coulomb, summed over the cone and cut-off sub-steps).
-// Dispatch by switch, no virtual calls (DESIGN 1.1).
+// Dispatch by switch, no virtual calls (docs/physics.md 1.1).
 KOKKOS_INLINE_FUNCTION double update_stress(const MaterialLaw& m, const double deps[3], double s[4],
                                             double& epeq) {
   switch (m.model) {

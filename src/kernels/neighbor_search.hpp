@@ -1,6 +1,6 @@
-// Contact pre-search (DESIGN.md 1.3, the paper's "pre-search"): a Verlet list of candidate disc
-// pairs built by uniform cell binning, plus the all-pairs (O(N^2)) builder kept as the test
-// oracle and the benchmark baseline (paper Fig. 8 "traversal").
+// Contact pre-search (docs/physics.md 1.2, "Search"; the paper's "pre-search"): a Verlet list of
+// candidate disc pairs built by uniform cell binning, plus the all-pairs (O(N^2)) builder kept as
+// the test oracle and the benchmark baseline (paper Fig. 8 "traversal").
 //
 // Definitions and invariants:
 //  - The contact discs are a list of node ids in increasing order (`discs`); "disc a" is the

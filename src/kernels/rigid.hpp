@@ -1,5 +1,5 @@
-// Rigid bodies (DESIGN.md 1.3: `rigid`, no internal forces at all). A rigid body is a node range
-// moving as one: after every half kick the nodes' velocities (kicked by their own contact and
+// Rigid bodies (docs/physics.md 1.3: `rigid`, no internal forces at all). A rigid body is a node
+// range moving as one: after every half kick the nodes' velocities (kicked by their own contact and
 // external forces) are projected on the rigid motion with the same linear and angular momentum,
 // which is Newton-Euler for the body with its lumped mass and inertia; after the drift the
 // nodes are placed exactly at X + R(theta) r0, so the body never deforms.

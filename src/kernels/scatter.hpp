@@ -9,9 +9,11 @@
 // structured mesh whose rows are shorter than a chunk). One colour runs at a time; each of its
 // chunks is one work item, run by one thread in list order, so no two threads ever write one
 // node and the sum at every node has a fixed order, whatever the thread count (the chunks
-// depend on the list only).
+// depend on the list only). The plan's data is ScatterPlan (state.hpp, a member of Elements and
+// Bonds); this file builds it (build_scatter_plan, and update_scatter_plan for each entity) and
+// runs kernels by it (for_each_chunk).
 //
-// Why not the corner/end arrays and a node gather (the previous design): they cost every force
+// Why not corner/end arrays and a node gather: they cost every force
 // three times in memory (the store, its write-allocate, the gather's load) plus the node ->
 // corner lists, about 200 B per element-step of the FE step's 700. Why not atomics: on CPUs an
 // atomic double add is a compare-and-swap loop, and the order of the sums would change from
@@ -24,14 +26,9 @@
 #include <vector>
 
 #include "kernels/compat.hpp"
+#include "kernels/state.hpp"
 
 namespace fracta {
-
-#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
-inline constexpr bool kAtomicScatter = true;
-#else
-inline constexpr bool kAtomicScatter = false;
-#endif
 
 // *target += value: a plain add inside a chunk of a ScatterPlan, an atomic one otherwise.
 KOKKOS_INLINE_FUNCTION void scatter_add(double* target, double value, bool atomic) {
@@ -40,30 +37,6 @@ KOKKOS_INLINE_FUNCTION void scatter_add(double* target, double value, bool atomi
   else
     *target += value;
 }
-
-struct ScatterPlan {
-  static constexpr int kMaxColors = 16;
-  // Chunks cut the items' index space (element or bond slot indices), not the list: chunk c is
-  // the items of index [c * chunk_size, (c + 1) * chunk_size), so its node interval and its
-  // colour never change. A list (increasing indices: Elements::active, Bonds::used) only needs
-  // the position where each chunk starts in it, chunk_begin (locate_scatter_chunks, after every
-  // change of the list: a binary search per chunk).
-  int chunk_size = 0;
-  int chunks = 0;
-  int universe = -1;    // the item count the chunks were cut from (-1: no plan)
-  int item_count = -1;  // the list length chunk_begin was located for (-1: none)
-  int colors = 0;       // 0: no plan (the kernels then add atomically)
-  // The chunks of colour k, increasing in lo: color_chunks[color_offset[k], color_offset[k+1]).
-  int color_offset[kMaxColors + 1] = {};
-  View<int*> color_chunks;
-  View<int*> chunk_begin_position;  // chunks + 1 entries; the last is item_count
-
-  // The plan applies to a list of `count` items (else the kernels take the atomic path).
-  bool usable(int count) const { return !kAtomicScatter && colors > 0 && item_count == count; }
-
-  KOKKOS_INLINE_FUNCTION int chunk_begin(int chunk) const { return chunk_begin_position(chunk); }
-  KOKKOS_INLINE_FUNCTION int chunk_end(int chunk) const { return chunk_begin_position(chunk + 1); }
-};
 
 // Chunk size: at least 64 items (less and the colour passes cost more than they save), at most
 // max_size, and about count / 64 between (64 chunks: enough for the threads of a CPU to share
@@ -213,6 +186,50 @@ typename Reducer::value_type for_each_chunk(const char* name, const ScatterPlan&
     Reducer(total).join(total, part);
   }
   return total;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The plans of the entities: each cut once from its items (every mesh element, every bond slot)
+// and located in its list (Elements::active, the bond list) after every change of the list.
+// ---------------------------------------------------------------------------------------------
+
+// The elements' plan: of every mesh element, located in the active list.
+inline void update_scatter_plan(Elements& elements) {
+  if (elements.scatter.universe == elements.count) {
+    locate_scatter_chunks(elements.scatter, elements.active, elements.active_count);
+    return;
+  }
+  const auto element_nodes = elements.nodes;
+  build_scatter_plan(
+      elements.scatter, elements.count,
+      KOKKOS_LAMBDA(const int e, int& lo, int& hi) {
+        lo = hi = element_nodes(e, 0);
+        for (int a = 1; a < 4; ++a) {
+          lo = min_(lo, element_nodes(e, a));
+          hi = max_(hi, element_nodes(e, a));
+        }
+      },
+      elements.active, elements.active_count);
+}
+
+// The scatter plan of the bond slots (kernels/scatter.hpp), cut once from the slots and located
+// in the bond list after every change of it. Chunks of up to 8192 slots: about as many discs as
+// an element chunk spans nodes (scatter_chunk_size).
+inline constexpr int kBondChunkMax = 8192;
+inline void update_scatter_plan(Bonds& bonds) {
+  const auto list = bonds_listed(bonds) ? bonds.used : View<int*>();
+  if (bonds.scatter.universe == bonds.count) {
+    locate_scatter_chunks(bonds.scatter, list, bond_list_count(bonds));
+    return;
+  }
+  const auto ends = bonds.nodes;
+  build_scatter_plan(
+      bonds.scatter, bonds.count,
+      KOKKOS_LAMBDA(const int b, int& lo, int& hi) {
+        lo = min_(ends(b, 0), ends(b, 1));
+        hi = max_(ends(b, 0), ends(b, 1));
+      },
+      list, bond_list_count(bonds), kBondChunkMax);
 }
 
 }  // namespace fracta

@@ -48,7 +48,7 @@ KOKKOS_INLINE_FUNCTION auto all_lanes() {
 // lane l at node n0 + l, corner 1 at n0 + l + 1, corner 3 at m0 + l, corner 2 at m0 + l + 1. Their
 // node data then comes by vector loads (load_pairs) instead of gathers.
 template <int L>
-KOKKOS_INLINE_FUNCTION bool structured_row(const int (&node)[4][L]) {
+KOKKOS_FORCEINLINE_FUNCTION bool structured_row(const int (&node)[4][L]) {
   bool row = true;
   for (int l = 0; l < L; ++l)
     row = row && node[0][l] == node[0][0] + l && node[1][l] == node[0][l] + 1 &&
@@ -165,6 +165,14 @@ inline Double8 sqrt_(Double8 a) {
 inline Double8 fabs_(Double8 a) {
   for (int l = 0; l < 8; ++l) a[l] = fabs_(a[l]);  // vectorized (a sign-bit mask)
   return a;
+}
+
+// Lane by lane as compat.hpp's min_ and max_ on doubles (the same choice at ties and NaN).
+inline Double8 min_(const Double8& a, const Double8& b) {
+  return a < b ? a : b;
+}
+inline Double8 max_(const Double8& a, const Double8& b) {
+  return a > b ? a : b;
 }
 
 // Eight consecutive (x, y) pairs of an interleaved array (a LayoutRight [n][2] view at node n):

@@ -1,4 +1,4 @@
-// Device state, one struct of views per entity (DESIGN.md 2). Units SI.
+// Device state, one struct of views per entity (docs/physics.md 2). Units SI.
 //
 // Ordering invariants:
 //  - Nodes: body by body (each body's nodes form one contiguous range), rows of the structured
@@ -14,9 +14,42 @@
 #pragma once
 #include "kernels/compat.hpp"
 #include "kernels/materials.hpp"
-#include "kernels/scatter.hpp"
 
 namespace fracta {
+
+// How kernels add to shared nodes (kernels/scatter.hpp): atomically on GPUs (thousands of
+// threads, fast atomics), by the chunks of a ScatterPlan on CPUs.
+#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+inline constexpr bool kAtomicScatter = true;
+#else
+inline constexpr bool kAtomicScatter = false;
+#endif
+
+// The chunks and colours of a list of work items (kernels/scatter.hpp: build_scatter_plan,
+// update_scatter_plan), held by the entity whose list it cuts (Elements, Bonds).
+struct ScatterPlan {
+  static constexpr int kMaxColors = 16;
+  // Chunks cut the items' index space (element or bond slot indices), not the list: chunk c is
+  // the items of index [c * chunk_size, (c + 1) * chunk_size), so its node interval and its
+  // colour never change. A list (increasing indices: Elements::active, Bonds::used) only needs
+  // the position where each chunk starts in it, chunk_begin (locate_scatter_chunks, after every
+  // change of the list: a binary search per chunk).
+  int chunk_size = 0;
+  int chunks = 0;
+  int universe = -1;    // the item count the chunks were cut from (-1: no plan)
+  int item_count = -1;  // the list length chunk_begin was located for (-1: none)
+  int colors = 0;       // 0: no plan (the kernels then add atomically)
+  // The chunks of colour k, increasing in lo: color_chunks[color_offset[k], color_offset[k+1]).
+  int color_offset[kMaxColors + 1] = {};
+  View<int*> color_chunks;
+  View<int*> chunk_begin_position;  // chunks + 1 entries; the last is item_count
+
+  // The plan applies to a list of `count` items (else the kernels take the atomic path).
+  bool usable(int count) const { return !kAtomicScatter && colors > 0 && item_count == count; }
+
+  KOKKOS_INLINE_FUNCTION int chunk_begin(int chunk) const { return chunk_begin_position(chunk); }
+  KOKKOS_INLINE_FUNCTION int chunk_end(int chunk) const { return chunk_begin_position(chunk + 1); }
+};
 
 enum FixedDof : int { kFixX = 1, kFixY = 2 };
 
@@ -30,7 +63,7 @@ struct Nodes {
   View<int*> fixed;         // FixedDof bits
   View<int*> body;
   int count = 0;
-  // Particle (disc) state of a node (DESIGN.md 1.3); empty views when no body can convert.
+  // Particle (disc) state of a node (docs/physics.md 1.3); empty views when no body can convert.
   View<int*> particle;              // 1 if the node is a disc (a DE particle)
   View<int*> contact_disc;          // 1 if the node takes part in contact (disc or FE boundary)
   View<double*> radius;             // disc radius (m), half the cell size
@@ -141,7 +174,7 @@ enum BondKind : int { kBondEdge = 0, kBondDiagonal = 1 };
 // Bits of Bonds::run_next.
 enum BondRunBits : unsigned char { kRunContinues = 1, kRunNormalOnly = 2 };
 
-// Bond slots (DESIGN.md 1.2-1.3): springs between discs. Normal force fn (tension positive)
+// Bond slots (docs/physics.md 1.2-1.3): springs between discs. Normal force fn (tension positive)
 // along n = (xj - xi)/|xj - xi|; shear force fs along t = n rotated by +90 degrees. The force on
 // disc i is fn n + fs t (on j the opposite); disc i receives the moment l_i fs, with l_i the
 // distance from its centre to the contact point (l_i = r_i at the rest length).
@@ -189,6 +222,15 @@ struct Bonds {
   View<int*> used;
   int used_count = 0;
 };
+
+// The bond list the kernels sweep: Bonds::used when it is a proper subset of the slots, else
+// every slot (a list of every slot is the identity).
+inline bool bonds_listed(const Bonds& bonds) {
+  return bonds.used.extent(0) > 0 && bonds.used_count < bonds.count;
+}
+inline int bond_list_count(const Bonds& bonds) {
+  return bonds_listed(bonds) ? bonds.used_count : bonds.count;
+}
 
 // Who is joined to whom, for contact exclusion: node -> bond slots and node -> elements (CSR).
 // Two discs joined by an active bond or by an active element never contact.

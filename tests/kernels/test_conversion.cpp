@@ -1,4 +1,4 @@
-// Adaptive FE-to-DE conversion (DESIGN.md 1.3): the compaction, and what a conversion may and
+// Adaptive FE-to-DE conversion (docs/physics.md 1.3): the compaction, and what a conversion may and
 // may not change.
 #include <gtest/gtest.h>
 

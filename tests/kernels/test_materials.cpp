@@ -1,6 +1,7 @@
-// Material-point tests of the pointwise material laws (src/kernels/materials.hpp, DESIGN 1.1).
-// The laws are KOKKOS_INLINE_FUNCTIONs, host-callable, so most tests drive one material point on
-// the host; MaterialDevice.* runs update_stress inside a Kokkos::parallel_for.
+// Material-point tests of the pointwise material laws (src/kernels/materials.hpp,
+// docs/physics.md 1.1). The laws are KOKKOS_INLINE_FUNCTIONs, host-callable, so most tests drive
+// one material point on the host; MaterialDevice.* runs update_stress inside a
+// Kokkos::parallel_for.
 #include <gtest/gtest.h>
 
 #include <algorithm>
