@@ -463,7 +463,7 @@ HistoryRecord Simulation::history() {
   r.momentum_y = nt.momentum_y;
   r.count.elements = model_.elements.active_count;
   r.count.particles = lt.particles;
-  r.count.composite = lt.composite;
+  r.count.composite = composite_count(model_.nodes, model_.topology);
   r.count.bonds = lt.active_bonds;
   r.count.broken_bonds = ledger_.counts.broken_bonds;
   r.count.contacts = ledger_.counts.touching;

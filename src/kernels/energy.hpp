@@ -43,7 +43,7 @@ inline NodeTotals node_totals(const Nodes& nodes, double dt) {
 struct LatticeTotals {
   double rotational_kinetic = 0, rotational_time_discretization = 0, bond_elastic = 0,
          bond_plastic = 0;
-  long particles = 0, composite = 0, active_bonds = 0;
+  long particles = 0, active_bonds = 0;
 };
 
 inline LatticeTotals lattice_totals(const Nodes& nodes, const Bonds& bonds, double dt) {
@@ -91,6 +91,32 @@ inline LatticeTotals lattice_totals(const Nodes& nodes, const Bonds& bonds, doub
     t.active_bonds = static_cast<long>(b.v[2] + 0.5);
   }
   return t;
+}
+
+// Composite nodes (docs/physics.md 1.3): discs still attached to an active element, where the
+// FE and DE parts of a body share a node and it takes element, bond and contact forces.
+inline long composite_count(const Nodes& nodes, const Topology& topology) {
+  if (!nodes.has_particles() || topology.node_element_offset.extent(0) == 0) return 0;
+  const bool particle_list = nodes.particle_list.extent(0) > 0;
+  const auto particles = nodes.particle_list;
+  const auto offset = topology.node_element_offset;
+  const auto elements = topology.node_element;
+  const auto alive = topology.element_alive;
+  long count = 0;
+  Kokkos::parallel_reduce(
+      "fracta::composite_count",
+      Kokkos::RangePolicy<ExecSpace>(0, particle_list ? nodes.particle_count : nodes.count),
+      KOKKOS_LAMBDA(const int k, long& acc) {
+        const int n = particle_list ? particles(k) : k;
+        if (!nodes.particle(n)) return;
+        for (int q = offset(n); q < offset(n + 1); ++q)
+          if (alive(elements(q))) {
+            ++acc;
+            return;
+          }
+      },
+      count);
+  return count;
 }
 
 // Totals over the active elements: the recoverable strain energy (J). (Their dissipation is
