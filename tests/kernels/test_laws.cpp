@@ -21,12 +21,6 @@
 namespace fracta {
 namespace {
 
-std::uint64_t bits(double x) {
-  std::uint64_t b;
-  std::memcpy(&b, &x, sizeof b);
-  return b;
-}
-
 // ---- Springs --------------------------------------------------------------------------------
 
 TEST(SpringLaw, ElasticForces) {
@@ -348,6 +342,12 @@ TEST(LawsDevice, RunOnTheDefaultExecutionSpace) {
 }
 
 #ifdef FRACTA_HOST_SIMD
+std::uint64_t bits(double x) {
+  std::uint64_t b;
+  std::memcpy(&b, &x, sizeof b);
+  return b;
+}
+
 // Eight random inputs per argument; the Double8 result lane l must equal, bit for bit, the
 // double result of lane l's inputs. Values in ranges that take every branch of the laws
 // (yielding and not, tension and compression, damage 0 and not, clamped contact and not).
@@ -371,6 +371,8 @@ struct Lanes {
 // contracts products into FMAs differently in the scalar and the vector code: a few ulps there.
 void expect_lanes(const Double8& vector, const std::vector<double>& scalar, const char* what) {
   for (int l = 0; l < 8; ++l) {
+    // Inputs are drawn in each law's domain: a NaN is a fault, however the lanes agree.
+    EXPECT_FALSE(std::isnan(scalar[l])) << what << " lane " << l;
 #ifdef FRACTA_SANITIZE_BUILD
     EXPECT_NEAR(vector[l], scalar[l],
                 8 * std::numeric_limits<double>::epsilon() * std::fabs(scalar[l]))
@@ -446,7 +448,11 @@ TEST(LawsSimd, DoubleAndDouble8AgreeBitwise) {
     const Double8 L0 = r.uniform(1e-3, 2e-3), factor = r.uniform(1e-9, 3e-9);
     Double8 onset;
     const Double8 lambda_f = soft.final_separation(fn, fs, kn, ks, L0, factor, onset);
-    const Double8 lambda = r.uniform(0.0, 1e-4);
+    // Damage in its domain, as the bond kernel calls it: 0 < onset < lambda_f, lambda < lambda_f
+    // (below onset too: the damage then stays). lambda_f == onset is a brittle bond, 0/0 here.
+    const Double8 soft_onset = r.uniform(1e-6, 2e-6);
+    const Double8 soft_lambda_f = soft_onset + r.uniform(1e-7, 1e-5);
+    const Double8 lambda = soft_lambda_f * r.uniform(0.0, 1.0);
     Double8 fn_applied, fs_applied;
     CohesiveSoftening::applied(fn, fs, damage, fn_applied, fs_applied);
     std::vector<double> s_lf(8), s_onset(8), s_sep(8), s_stored(8), s_work2(8), s_und(8), s_dmg(8),
@@ -459,7 +465,7 @@ TEST(LawsSimd, DoubleAndDouble8AgreeBitwise) {
       s_work2[l] = CohesiveSoftening::work(fn_old[l], fn_applied[l], fs_old[l], fs_applied[l],
                                            fn[l], damage[l], kn[l], du[l]);
       s_und[l] = CohesiveSoftening::undamaged(fs_old[l], damage[l]);
-      s_dmg[l] = CohesiveSoftening::damage(lambda[l], onset[l], lambda_f[l], damage[l]);
+      s_dmg[l] = CohesiveSoftening::damage(lambda[l], soft_onset[l], soft_lambda_f[l], damage[l]);
       CohesiveSoftening::applied(fn[l], fs[l], damage[l], s_fna[l], s_fsa[l]);
       s_rel[l] =
           soft.released_energy(fn_old[l], fs_old[l], fn[l], fs[l], damage[l], kn[l], ks[l], du[l]);
@@ -474,7 +480,8 @@ TEST(LawsSimd, DoubleAndDouble8AgreeBitwise) {
         CohesiveSoftening::work(fn_old, fn_applied, fs_old, fs_applied, fn, damage, kn, du),
         s_work2, "work");
     expect_lanes(CohesiveSoftening::undamaged(fs_old, damage), s_und, "undamaged");
-    expect_lanes(CohesiveSoftening::damage(lambda, onset, lambda_f, damage), s_dmg, "damage");
+    expect_lanes(CohesiveSoftening::damage(lambda, soft_onset, soft_lambda_f, damage), s_dmg,
+                 "damage");
     expect_lanes(fn_applied, s_fna, "applied fn");
     expect_lanes(fs_applied, s_fsa, "applied fs");
     expect_lanes(soft.released_energy(fn_old, fs_old, fn, fs, damage, kn, ks, du), s_rel,
