@@ -6,6 +6,7 @@
 // KOKKOS_INLINE_FUNCTIONs; LawsDevice.* runs them inside a Kokkos::parallel_for.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -368,16 +369,20 @@ struct Lanes {
 };
 
 // Bitwise in the Release build the solver runs. The sanitizer build (RelWithDebInfo, -O2)
-// contracts products into FMAs differently in the scalar and the vector code: a few ulps there.
+// contracts products into FMAs differently in the scalar and the vector code: there the lanes
+// agree within 16 ulps of the round's largest value (a difference of large terms, like the shear
+// traction of a nearly hydrostatic stress, keeps the rounding of its terms).
 void expect_lanes(const Double8& vector, const std::vector<double>& scalar, const char* what) {
+  double scale = 0.0;
+  for (int l = 0; l < 8; ++l) scale = std::max(scale, std::fabs(scalar[l]));
   for (int l = 0; l < 8; ++l) {
     // Inputs are drawn in each law's domain: a NaN is a fault, however the lanes agree.
     EXPECT_FALSE(std::isnan(scalar[l])) << what << " lane " << l;
 #ifdef FRACTA_SANITIZE_BUILD
-    EXPECT_NEAR(vector[l], scalar[l],
-                8 * std::numeric_limits<double>::epsilon() * std::fabs(scalar[l]))
+    EXPECT_NEAR(vector[l], scalar[l], 16 * std::numeric_limits<double>::epsilon() * scale)
         << what << " lane " << l;
 #else
+    (void)scale;
     EXPECT_EQ(bits(vector[l]), bits(scalar[l]))
         << what << " lane " << l << ": " << vector[l] << " vs " << scalar[l];
 #endif
