@@ -148,9 +148,10 @@ const Choices<Shape::Type> kShapeTypes = {{"rectangle", Shape::Type::rectangle},
 const Choices<Load::Type> kLoadTypes = {{"pressure", Load::Type::pressure},
                                         {"force", Load::Type::force},
                                         {"traction", Load::Type::traction}};
-const Choices<Boundary::Type> kBoundaryTypes = {{"fixed_x", Boundary::Type::fixed_x},
-                                                {"fixed_y", Boundary::Type::fixed_y},
-                                                {"fixed", Boundary::Type::fixed}};
+const Choices<Boundary::Type> kBoundaryTypes = {
+    {"fixed_x", Boundary::Type::fixed_x}, {"fixed_y", Boundary::Type::fixed_y},
+    {"fixed", Boundary::Type::fixed},     {"velocity", Boundary::Type::velocity},
+    {"support", Boundary::Type::support}, {"bar", Boundary::Type::bar}};
 const std::vector<std::string_view> kOutputFields = {
     "velocity", "displacement", "stress", "plastic_strain", "pressure", "von_mises", "damage"};
 
@@ -724,7 +725,8 @@ Body read_body(const Reader& r, Names& names, const Names& materials) {
 }
 
 // The piecewise-linear table of a load: `time` (non-decreasing, >= 0) and `value`.
-void read_history(const Reader& r, Load& l) {
+template <class Table>
+void read_history(const Reader& r, Table& l) {
   l.time = r.numbers("time");
   l.value = r.numbers("value");
   if (l.time.empty()) r.fail("time", "must have at least one entry");
@@ -769,13 +771,66 @@ Load read_load(const Reader& r, const Names& bodies) {
   return l;
 }
 
-Boundary read_boundary(const Reader& r, const Names& bodies) {
-  r.allow_only({"body", "type", "segment", "shape"});
+Boundary read_boundary(const Reader& r, const Names& bodies, Names& names) {
+  r.allow_only({"name", "body", "type", "segment", "shape", "component", "direction", "time",
+                "value", "impedance", "area"});
   Boundary b;
   b.pos = r.pos();
+  if (r.has("name")) {
+    b.name = read_name(r);
+    names.add(r, b.name);
+  }
   b.body = r.string("body", "");
   if (r.has("body")) b.body_index = bodies.find(r, "body", b.body);
   b.type = r.choice("type", kBoundaryTypes);
+  const KeyList common = {"name", "body", "type", "segment", "shape"};
+  auto applicable = [&](std::initializer_list<std::string_view> more, const char* what) {
+    KeyList keys = common;
+    keys.insert(keys.end(), more.begin(), more.end());
+    r.only_applicable(keys, what);
+  };
+  switch (b.type) {
+    case Boundary::Type::fixed_x:
+    case Boundary::Type::fixed_y:
+    case Boundary::Type::fixed:
+      applicable({}, "a fixed boundary");
+      break;
+    case Boundary::Type::velocity: {
+      applicable({"component", "time", "value"}, "boundary type 'velocity'");
+      const std::string c = r.string("component");
+      if (c != "x" && c != "y") r.fail("component", "must be \"x\" or \"y\", got \"" + c + "\"");
+      b.component = c == "x" ? 0 : 1;
+      read_history(r, b);
+      break;
+    }
+    case Boundary::Type::support: {
+      applicable({"direction"}, "boundary type 'support'");
+      const Vec2 d = r.vec2("direction");
+      // Held components are the solver's per-axis constraint: a support pushes along an axis.
+      const bool axis = (d[0] == 0.0) != (d[1] == 0.0);
+      if (!axis)
+        r.fail("direction", "a support pushes along x or y: [1, 0], [-1, 0], [0, 1] or [0, -1]");
+      b.direction = {d[0] == 0.0 ? 0.0 : std::copysign(1.0, d[0]),
+                     d[1] == 0.0 ? 0.0 : std::copysign(1.0, d[1])};
+      break;
+    }
+    case Boundary::Type::bar: {
+      applicable({"direction", "impedance", "area", "time", "value"}, "boundary type 'bar'");
+      const Vec2 d = r.vec2("direction");
+      const double norm = std::hypot(d[0], d[1]);
+      if (!(norm > 0)) r.fail("direction", "must be a non-zero vector");
+      b.direction = {d[0] / norm, d[1] / norm};
+      b.impedance = r.number("impedance", Range::gt(0));
+      b.area = r.number("area", Range::gt(0));
+      if (r.has("time") || r.has("value")) {
+        read_history(r, b);
+      } else {
+        b.time = {0.0};  // a transmitted bar: no incident wave
+        b.value = {0.0};
+      }
+      break;
+    }
+  }
   b.where = read_selector(r);
   return b;
 }
@@ -837,7 +892,9 @@ void read_case(const Reader& r, Case& c) {
   if (c.bodies.empty()) r.fail("body", "at least one [[body]] is required");
 
   for (const Reader& e : r.entries("load")) c.loads.push_back(read_load(e, bodies));
-  for (const Reader& e : r.entries("boundary")) c.boundaries.push_back(read_boundary(e, bodies));
+  Names boundary_names("boundary");
+  for (const Reader& e : r.entries("boundary"))
+    c.boundaries.push_back(read_boundary(e, bodies, boundary_names));
   Names probes("probe"), body_probes("body_probe");
   for (const Reader& e : r.entries("probe")) c.probes.push_back(read_probe(e, probes, bodies));
   for (const Reader& e : r.entries("body_probe"))

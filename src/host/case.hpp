@@ -109,11 +109,27 @@ struct Load {
   SourcePos pos;
 };
 
+// Constraints and boundaries on node sets (docs/case-file.md, [[boundary]]):
+// - fixed_x, fixed_y, fixed: velocity components held at zero;
+// - velocity: one component (x or y) follows a piecewise-linear table (m/s), prescribed motion;
+// - support: push-only along `direction` (an axis): holds a node that presses into it, lets go
+//   when the node pulls away;
+// - bar: the end of an elastic bar of impedance Z (Pa s/m) and cross-section `area` (m^2)
+//   pushing along `direction`, with the incident wave's particle velocity v_I(t) (m/s):
+//   compressive stress Z (2 v_I - v) on the face (an incident bar), Z (-v) without a table (a
+//   transmitted bar), never tensile.
 struct Boundary {
-  enum class Type { fixed_x, fixed_y, fixed } type = Type::fixed;
+  enum class Type { fixed_x, fixed_y, fixed, velocity, support, bar } type = Type::fixed;
+  std::string name;  // optional: /boundaries/NAME in the output
   std::string body;  // empty = every body
   int body_index = -1;
   NodeSelector where;
+  int component = 0;          // velocity: 0 = x, 1 = y
+  Vec2 direction{0, 1};       // support, bar: unit direction the boundary pushes the body along
+  std::vector<double> time;   // velocity, bar: s, non-decreasing
+  std::vector<double> value;  // velocity: m/s; bar: incident particle velocity v_I (m/s)
+  double impedance = 0.0;     // bar: Z = rho c (Pa s/m)
+  double area = 0.0;          // bar: cross-section (m^2)
   SourcePos pos;
 };
 

@@ -31,7 +31,7 @@ constexpr const char* kFormat = "fracta checkpoint";
 // 2: bond damage and onset separation; 3: the lists of used bond slots and of particles;
 // 4: the FE dissipation sums; 5: bond slots in the bond kernel's order (build_lattice);
 // 6: the contact's discs are the boundary nodes and the particles (x_build has one row each)
-constexpr std::int64_t kFormatVersion = 7;
+constexpr std::int64_t kFormatVersion = 8;
 
 using h5::Handle;
 

@@ -86,10 +86,18 @@ void build_loads(Model& model) {
       }
     }
   }
+  // Then the tables of the velocity and bar boundaries.
+  for (const Boundary& b : c.boundaries) {
+    if (b.type != Boundary::Type::velocity && b.type != Boundary::Type::bar) continue;
+    t.insert(t.end(), b.time.begin(), b.time.end());
+    v.insert(v.end(), b.value.begin(), b.value.end());
+    offset.push_back(static_cast<int>(t.size()));
+  }
   model.tables.time = to_device_1d<double>("load_time", t);
   model.tables.value = to_device_1d<double>("load_value", v);
   model.tables.offset = to_device_1d<int>("load_offset", offset);
-  model.tables.count = static_cast<int>(c.loads.size());
+  model.tables.count = static_cast<int>(offset.size()) - 1;
+  model.host_tables = host_copy(model.tables);
 
   auto& pe = model.pressure_edges;
   pe.count = static_cast<int>(edges.size());
@@ -102,6 +110,59 @@ void build_loads(Model& model) {
   nf.node = to_device_1d<int>("nodal_force_node", force_node);
   nf.load = to_device_1d<int>("nodal_force_load", force_load);
   nf.force_per_unit = to_device_rows("nodal_force_unit", force_unit);
+}
+
+// The device lists of the prescribed and support components and the boundary sets. Tables of
+// velocity and bar boundaries follow the loads' (build_loads), in boundary order.
+void build_boundaries(Model& model) {
+  const Case& c = model.scene;
+  int table = static_cast<int>(c.loads.size());
+  std::vector<int> p_node, p_component, p_table, s_node, s_component;
+  std::vector<double> s_sign, s_plane;
+  for (size_t k = 0; k < c.boundaries.size(); ++k) {
+    const Boundary& b = c.boundaries[k];
+    const bool tabled = b.type == Boundary::Type::velocity || b.type == Boundary::Type::bar;
+    const int own_table = tabled ? table++ : -1;
+    const auto sel = select_nodes(model.mesh, b.where, b.body_index);
+    std::vector<std::array<int, 2>> set_table(sel.size(), {-1, -1});
+    for (size_t i = 0; i < sel.size(); ++i) {
+      const int n = sel[i];
+      if (b.type == Boundary::Type::velocity) {
+        p_node.push_back(n);
+        p_component.push_back(b.component);
+        p_table.push_back(own_table);
+        set_table[i][b.component] = own_table;
+      } else if (b.type == Boundary::Type::support) {
+        const int d = b.direction[0] != 0.0 ? 0 : 1;
+        s_node.push_back(n);
+        s_component.push_back(d);
+        s_sign.push_back(b.direction[d]);
+        s_plane.push_back(model.mesh.position[n][d]);
+      }
+    }
+    if (b.name.empty() && b.type != Boundary::Type::bar) continue;
+    BoundarySet set;
+    set.name = b.name;
+    set.type = b.type;
+    set.nodes = to_device_1d<int>("boundary_nodes", sel);
+    set.prescribed_table = to_device_rows("boundary_prescribed_table", set_table);
+    set.direction[0] = b.direction[0];
+    set.direction[1] = b.direction[1];
+    set.bar = {b.impedance, b.area};
+    set.bar_table = b.type == Boundary::Type::bar ? own_table : -1;
+    model.boundary_sets.push_back(set);
+  }
+  PrescribedDofs& p = model.prescribed;
+  p.count = static_cast<int>(p_node.size());
+  p.node = to_device_1d<int>("prescribed_node", p_node);
+  p.component = to_device_1d<int>("prescribed_component", p_component);
+  p.table = to_device_1d<int>("prescribed_table", p_table);
+  SupportDofs& sd = model.supports;
+  sd.count = static_cast<int>(s_node.size());
+  sd.node = to_device_1d<int>("support_node", s_node);
+  sd.component = to_device_1d<int>("support_component", s_component);
+  sd.sign = to_device_1d<double>("support_sign", s_sign);
+  sd.plane = to_device_1d<double>("support_plane", s_plane);
 }
 
 void build_probes(Model& model) {
@@ -353,13 +414,51 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   // Per-material lattice stiffness and bond law.
   std::vector<LatticeStiffness> stiffness;
   std::vector<BondLaw> laws;
-  for (const Material& mat : c.materials) {
+  // The largest cell side of the convertible cells of each material (the process zone check).
+  std::vector<double> largest_cell(c.materials.size(), 0.0);
+  for (int e = 0; e < ne; ++e) {
+    if (!convertible(m.element_method[e])) continue;
+    const auto& en = m.element_nodes[e];
+    for (int a = 0; a < 4; ++a) {
+      const Vec2& p = m.position[en[a]];
+      const Vec2& q = m.position[en[(a + 1) % 4]];
+      largest_cell[m.element_material[e]] =
+          std::max(largest_cell[m.element_material[e]], std::hypot(q[0] - p[0], q[1] - p[1]));
+    }
+  }
+  for (size_t mi = 0; mi < c.materials.size(); ++mi) {
+    const Material& mat = c.materials[mi];
     const LatticeStiffness s =
         lattice_stiffness(mat.youngs_modulus, mat.poisson_ratio, plane_strain, c.sim.thickness);
     stiffness.push_back(s);
     BondLaw law;
     law.youngs_modulus_eff = s.youngs_modulus_eff;
+    law.poisson_ratio_eff = s.poisson_ratio_eff;
     law.tensile_strength = mat.tensile_strength;
+    // Resolving the process zone (docs/physics.md 1.2): a cohesive crack dissipates G_f and runs
+    // at the speed G_f = g(v) G allows only when its process zone, of length
+    // l = E* G_f / sigma_t^2, spans kCohesiveZoneCells cells; with fewer, the strength check of
+    // the cell ahead traps the crack and the toughness is set by sigma_t and the cell size
+    // (sigma_t^2 h / E*), not by G_f. The bond strength is then capped at
+    // sqrt(E* G_f / (kCohesiveZoneCells h)): crack growth follows G_f, initiation from a smooth
+    // surface comes at the capped strength (a crack band of the cell's width; Bazant & Oh 1983).
+    if (mat.fracture_energy > 0.0 && mat.tensile_strength > 0.0 && largest_cell[mi] > 0.0) {
+      const double cap = std::sqrt(s.youngs_modulus_eff * mat.fracture_energy /
+                                   (kCohesiveZoneCells * largest_cell[mi]));
+      if (cap < law.tensile_strength) {
+        law.tensile_strength = cap;
+        char note[400];
+        std::snprintf(note, sizeof note,
+                      "material '%s': cohesive zone E* G_f / sigma_t^2 = %.3g mm is below %g "
+                      "cells of %.3g mm; bond tensile strength capped at %.4g MPa (crack growth "
+                      "follows G_f; a smooth surface cracks at the capped strength)",
+                      mat.name.c_str(),
+                      1e3 * s.youngs_modulus_eff * mat.fracture_energy /
+                          (mat.tensile_strength * mat.tensile_strength),
+                      kCohesiveZoneCells, 1e3 * largest_cell[mi], cap / 1e6);
+        model.strength_notes.push_back(note);
+      }
+    }
     // Cohesive bonds: each bond's share of the crack area (BondLaw, bond_forces.hpp).
     law.fracture_energy = mat.fracture_energy;
     law.crack_area_factor[kBondEdge] = 1.0 / s.youngs_modulus_eff;
@@ -520,19 +619,62 @@ Model build_model(const Case& c) {
       const double em = c.materials[m.element_material[e]].density * area * c.sim.thickness;
       for (int a = 0; a < 4; ++a) mass(en[a]) += 0.25 * em;
     }
+    // Each component takes one kind of constraint: fixed (several fixed boundaries may hold
+    // it), prescribed, or support; a bar is a force and combines with anything.
+    enum Claim : int { kFree = 0, kFixedClaim, kPrescribedClaim, kSupportClaim };
+    std::vector<std::array<int, 2>> claim(nn, {kFree, kFree}), claimed_by(nn, {-1, -1});
     for (size_t k = 0; k < c.boundaries.size(); ++k) {
       const Boundary& b = c.boundaries[k];
+      const std::string key = "boundary[" + std::to_string(k) + "]";
       const auto sel = select_nodes(m, b.where, b.body_index);
-      if (sel.empty())
-        throw InputError(b.pos.file, b.pos.line, "boundary[" + std::to_string(k) + "]",
-                         "selects no node");
-      const int bits = b.type == Boundary::Type::fixed_x   ? kFixX
-                       : b.type == Boundary::Type::fixed_y ? kFixY
-                                                           : (kFixX | kFixY);
+      if (sel.empty()) throw InputError(b.pos.file, b.pos.line, key, "selects no node");
+      int bits = 0, kind = kFree;
+      switch (b.type) {
+        case Boundary::Type::fixed_x:
+          bits = kFixX, kind = kFixedClaim;
+          break;
+        case Boundary::Type::fixed_y:
+          bits = kFixY, kind = kFixedClaim;
+          break;
+        case Boundary::Type::fixed:
+          bits = kFixX | kFixY, kind = kFixedClaim;
+          break;
+        case Boundary::Type::velocity:
+          bits = b.component == 0 ? kFixX : kFixY, kind = kPrescribedClaim;
+          break;
+        case Boundary::Type::support:
+          bits = b.direction[0] != 0.0 ? kFixX : kFixY, kind = kSupportClaim;
+          break;
+        case Boundary::Type::bar:
+          break;
+      }
       for (int n : sel) {
-        fixed(n) |= bits;
-        if (bits & kFixX) v(n, 0) = 0.0;
-        if (bits & kFixY) v(n, 1) = 0.0;
+        if (c.bodies[m.node_body[n]].method == BodyMethod::rigid && kind != kFixedClaim &&
+            kind != kFree)
+          throw InputError(b.pos.file, b.pos.line, key,
+                           "selects nodes of the rigid body '" + c.bodies[m.node_body[n]].name +
+                               "': velocity and support boundaries act on deformable bodies");
+        for (int d = 0; d < 2; ++d) {
+          if (!(bits & (1 << d))) continue;
+          const int had = claim[n][d];
+          if (had != kFree && !(had == kFixedClaim && kind == kFixedClaim)) {
+            std::ostringstream msg;
+            msg << "constrains the " << (d == 0 ? "x" : "y") << " velocity of the node at ("
+                << m.position[n][0] << ", " << m.position[n][1] << ") m, which boundary["
+                << claimed_by[n][d] << "] already constrains";
+            throw InputError(b.pos.file, b.pos.line, key, msg.str());
+          }
+          claim[n][d] = kind;
+          claimed_by[n][d] = static_cast<int>(k);
+          // Support components start free: update_supports holds them when they press.
+          if (kind == kFixedClaim) {
+            fixed(n) |= 1 << d;
+            v(n, d) = 0.0;
+          } else if (kind == kPrescribedClaim) {
+            fixed(n) |= 1 << d;
+            v(n, d) = b.value.front();  // V(0): a table is its first value up to its first time
+          }
+        }
       }
     }
     Kokkos::deep_copy(nodes.x, x);
@@ -581,6 +723,7 @@ Model build_model(const Case& c) {
 
   build_rigid_bodies(model);
   build_loads(model);
+  build_boundaries(model);
   build_probes(model);
   // The lattice (bond slots of convertible bodies, disc views, contact) is built when a body can
   // hold discs or when several bodies can touch; a single FE body needs none of it.

@@ -8,6 +8,7 @@
 #include "host/contact.hpp"
 #include "host/mesh.hpp"
 #include "kernels/bond_forces.hpp"
+#include "kernels/boundaries.hpp"
 #include "kernels/conversion.hpp"
 #include "kernels/fe_forces.hpp"
 #include "kernels/rigid.hpp"
@@ -26,6 +27,20 @@ struct BodyProbeSite {
   int node_begin = 0, node_end = 0;
 };
 
+// A boundary the history reports on (named ones) or the step acts on (bars): its node set,
+// and per node of the set the table of each prescribed component (-1: none).
+struct BoundarySet {
+  std::string name;  // empty: unnamed (a bar still acts)
+  Boundary::Type type = Boundary::Type::fixed;
+  View<int*> nodes;
+  View<int* [2]> prescribed_table;
+  double direction[2] = {0.0, 1.0};
+  BarImpedance bar;       // bars only
+  int bar_table = -1;     // bars: the incident velocity table
+  double stress = 0.0;    // bars: the face stress of the last evaluation (Pa, compression > 0)
+  double incident = 0.0;  // bars: Z v_I at that time (Pa)
+};
+
 struct Model {
   Case scene;
   HostMesh mesh;
@@ -34,8 +49,13 @@ struct Model {
   View<MaterialLaw*> materials;
   std::vector<MaterialLaw> host_materials;
   LoadTables tables;
+  HostLoadTables host_tables;  // the same, on the host (bars' incident velocities)
   PressureEdges pressure_edges;
   NodalForces nodal_forces;
+  // Boundaries that act through the integrator (kernels/boundaries.hpp); tables after the loads'.
+  PrescribedDofs prescribed;
+  SupportDofs supports;
+  std::vector<BoundarySet> boundary_sets;  // named boundaries and every bar
   FeParams fe;
   // The bonded lattice (empty when no body can become discs).
   Bonds bonds;
@@ -49,6 +69,9 @@ struct Model {
   ListWorkspace lists;                        // conversion workspace for the lattice lists
   View<LatticeStiffness*> lattice_stiffness;  // per material
   View<BondLaw*> bond_laws;                   // per material
+  // Cohesive materials whose process zone the lattice cannot resolve: the bond tensile strength
+  // is capped (build_lattice; docs/physics.md 1.2, "Resolving the process zone"), one line each.
+  std::vector<std::string> strength_notes;
   // Disc contact (particles and FE boundary nodes); null when the scene has no discs.
   std::shared_ptr<ContactSystem> contacts;
   // Rigid bodies and each node's offset from its body's centre of mass in the reference state.

@@ -137,6 +137,18 @@ const Column<BR, double> kBodyProbeReal[] = {
     {"vy", [](const BR& r) { return r.vy; }},
 };
 
+using BdR = BoundaryRecord;
+const Column<BdR, double> kBoundaryReal[] = {
+    {"time", [](const BdR& r) { return r.time; }},
+    {"fx", [](const BdR& r) { return r.fx; }},
+    {"fy", [](const BdR& r) { return r.fy; }},
+    {"vx", [](const BdR& r) { return r.vx; }},
+    {"vy", [](const BdR& r) { return r.vy; }},
+    {"stress", [](const BdR& r) { return r.stress; }},
+    {"incident", [](const BdR& r) { return r.incident; }},
+    {"reflected", [](const BdR& r) { return r.reflected; }},
+};
+
 // Optional element fields: FrameData::fields option -> dataset, data, values per element.
 struct ElementField {
   const char* option;
@@ -201,6 +213,7 @@ struct OutputFile::Impl {
   std::vector<HistoryRecord> history_rows;
   std::map<std::string, std::vector<ProbeRecord>> probe_rows;
   std::map<std::string, std::vector<BodyProbeRecord>> body_probe_rows;
+  std::map<std::string, std::vector<BoundaryRecord>> boundary_rows;
   std::vector<FrameInfo> frame_info;
   bool finished = false;
   bool consolidated = false;  // finish() copied the frames into OUT.h5
@@ -265,6 +278,7 @@ struct OutputFile::Impl {
     std::size_t rows = history_rows.size();
     for (const auto& [name, r] : probe_rows) rows += r.size();
     for (const auto& [name, r] : body_probe_rows) rows += r.size();
+    for (const auto& [name, r] : boundary_rows) rows += r.size();
     bytes += 256 * rows;
     if (consolidate)
       for (std::size_t k = 0; k < frame_info.size(); ++k) {
@@ -327,6 +341,7 @@ struct OutputFile::Impl {
     history_rows.clear();
     for (auto& [name, rows] : probe_rows) rows.clear();
     for (auto& [name, rows] : body_probe_rows) rows.clear();
+    for (auto& [name, rows] : boundary_rows) rows.clear();
     if (consolidate) {
       std::error_code ignored;
       fs::remove_all(frames_dir, ignored);
@@ -354,7 +369,7 @@ struct OutputFile::Impl {
 
       // Series: the previous commit's, then the rows buffered since.
       if (old.get() >= 0) {
-        for (const char* name : {"history", "probes", "body_probes"})
+        for (const char* name : {"history", "probes", "body_probes", "boundaries"})
           ok(H5Ocopy(old.get(), name, root, name, H5P_DEFAULT, H5P_DEFAULT),
              std::string("cannot copy /") + name + " from the previous " + path);
       } else {
@@ -365,6 +380,7 @@ struct OutputFile::Impl {
         create_columns(history.get(), kHistoryInt);
         group(root, "probes");
         group(root, "body_probes");
+        group(root, "boundaries");
       }
       {
         Handle history(id(H5Gopen2(root, "history", H5P_DEFAULT), "cannot open /history"),
@@ -374,6 +390,7 @@ struct OutputFile::Impl {
       }
       append_probes(root, "probes", probe_rows, kProbeReal);
       append_probes(root, "body_probes", body_probe_rows, kBodyProbeReal);
+      append_probes(root, "boundaries", boundary_rows, kBoundaryReal);
 
       // Frames: /frames@count complete frames, /frames/K linked to (or copied from) its file.
       Handle frames = group(root, "frames");
@@ -731,6 +748,10 @@ void OutputFile::declare_body_probe(const std::string& name) {
   impl_->declare(impl_->body_probe_rows, name);
 }
 
+void OutputFile::declare_boundary(const std::string& name) {
+  impl_->declare(impl_->boundary_rows, name);
+}
+
 void OutputFile::append_history(const HistoryRecord& r) {
   impl_->require_open("append_history");
   impl_->history_rows.push_back(r);
@@ -744,6 +765,11 @@ void OutputFile::append_probe(const std::string& name, const ProbeRecord& r) {
 void OutputFile::append_body_probe(const std::string& name, const BodyProbeRecord& r) {
   impl_->require_open("append_body_probe");
   Impl::buffer(impl_->path, impl_->body_probe_rows, name, r);
+}
+
+void OutputFile::append_boundary(const std::string& name, const BoundaryRecord& r) {
+  impl_->require_open("append_boundary");
+  Impl::buffer(impl_->path, impl_->boundary_rows, name, r);
 }
 
 void OutputFile::write_frame(const FrameData& f) {

@@ -55,6 +55,14 @@ struct BodyProbeRecord {  // mass-averaged position and velocity of a body
   double time = 0, x = 0, y = 0, vx = 0, vy = 0;
 };
 
+// A named boundary (docs/output.md, /boundaries/NAME): the force its constraints apply to the
+// body (N, fixed, velocity and support boundaries: m a - f on their held components; bars:
+// A sigma along the bar), its nodes' mass-averaged velocity (m/s), and for bars the face stress,
+// the incident stress Z v_I and the reflected stress sigma - Z v_I (Pa, compression positive).
+struct BoundaryRecord {
+  double time = 0, fx = 0, fy = 0, vx = 0, vy = 0, stress = 0, incident = 0, reflected = 0;
+};
+
 // One field frame. Node arrays have 2 entries per node (x, y interleaved); element arrays one
 // entry per active element, except stress (4: sxx, syy, szz, sxy) and connectivity (4 node ids).
 struct FrameData {
@@ -98,10 +106,12 @@ class OutputFile {
 
   void declare_probe(const std::string& name);
   void declare_body_probe(const std::string& name);
+  void declare_boundary(const std::string& name);
 
   void append_history(const HistoryRecord& r);
   void append_probe(const std::string& name, const ProbeRecord& r);
   void append_body_probe(const std::string& name, const BodyProbeRecord& r);
+  void append_boundary(const std::string& name, const BoundaryRecord& r);
 
   // Writes frame K (K = 0, 1, ...) to its file, commits (OUT.h5 lists /frames/K and the buffered
   // history), updates the .xdmf beside the file.

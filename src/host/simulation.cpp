@@ -200,6 +200,8 @@ void Simulation::step(bool defer_kick) {
   ledger_.add(lattice);
   ledger_.add(contact, dt);
   ledger_.bounds.step = combined_stable_dt(fe.dt_min, ledger_.bounds.lattice);
+  // This evaluation's bar forces act over this step's second half kick and the next's first.
+  boundary_forces(0.5 * (dt + next_dt()));
   kick(defer_kick);
   convert();
   ++clock.steps;
@@ -225,6 +227,7 @@ void Simulation::initial_forces() {
   contact_search();
   ledger_.add(contact_forces(0.0), 0.0);
   ledger_.bounds.step = combined_stable_dt(fe.dt_min, ledger_.bounds.lattice);
+  boundary_forces(0.5 * next_dt());  // f(0) acts over the first half kick
 }
 
 void Simulation::kick_drift() {
@@ -232,9 +235,14 @@ void Simulation::kick_drift() {
   const double dt = ledger_.clock.dt;
   {
     ProfilingRegion integrate("fracta::integrate");
+    // Prescribed components: the work of their constraint before the kick, their velocity
+    // V(t + dt/2) and their drift after it (never with a pending kick: kick() does not defer).
+    const double t_mid = ledger_.clock.time + 0.5 * dt;
+    ledger_.energy.external += prescribed_work(m.nodes, m.prescribed, m.tables, t_mid, dt, true);
     ledger_.energy.external +=
         kick_pending_ ? kick_kick_drift(m.nodes, last_dt_, dt) : fracta::kick_drift(m.nodes, dt);
     kick_pending_ = false;
+    prescribe(m.nodes, m.prescribed, m.tables, t_mid, dt);
   }
   for (RigidBody& b : m.rigid) {
     project_rigid(b, m.nodes);
@@ -302,14 +310,34 @@ ContactPhaseSums Simulation::contact_forces(double dt) {
   return {work, r.elastic_energy, r.touching};
 }
 
+void Simulation::boundary_forces(const double kick_interval) {
+  Model& m = model_;
+  const double t = ledger_.clock.time;
+  for (BoundarySet& b : m.boundary_sets) {
+    if (b.type != Boundary::Type::bar) continue;
+    const double dx = b.direction[0], dy = b.direction[1];
+    const FaceTotals face = face_totals(m.nodes, b.nodes, dx, dy);
+    const double incident_velocity = table_value(m.host_tables, b.bar_table, t);
+    b.stress = b.bar.stress(incident_velocity, face.momentum / face.mass, face.force, face.mass,
+                            kick_interval);
+    b.incident = b.bar.impedance * incident_velocity;
+    if (b.stress > 0.0) push_face(m.nodes, b.nodes, b.bar.area * b.stress / face.mass, dx, dy);
+  }
+  // After the bars: a support holds against every other force.
+  ledger_.energy.external += update_supports(m.nodes, m.supports);
+}
+
 void Simulation::kick(bool defer) {
   Model& m = model_;
   last_dt_ = ledger_.clock.dt;
-  if (defer && m.rigid.empty()) {
+  if (defer && m.rigid.empty() && m.prescribed.count == 0) {
     kick_pending_ = true;
   } else {
     ProfilingRegion integrate("fracta::integrate");
+    const double t = ledger_.clock.time;
+    ledger_.energy.external += prescribed_work(m.nodes, m.prescribed, m.tables, t, last_dt_, false);
     ledger_.energy.external += fracta::kick(m.nodes, last_dt_);
+    prescribe(m.nodes, m.prescribed, m.tables, t, 0.0);
   }
   for (RigidBody& b : m.rigid) project_rigid(b, m.nodes);
 }
@@ -509,6 +537,34 @@ std::vector<ProbeRecord> Simulation::probe_records() {
   return out;
 }
 
+std::vector<BoundaryRecord> Simulation::boundary_records() {
+  finish_kick();
+  std::vector<BoundaryRecord> out;
+  const Model& m = model_;
+  const double t = ledger_.clock.time;
+  for (const BoundarySet& b : m.boundary_sets) {
+    if (b.name.empty()) continue;
+    const SetReaction r = set_reaction(m.nodes, b.nodes, b.prescribed_table, m.tables, t);
+    BoundaryRecord rec;
+    rec.time = t;
+    rec.vx = r.vx;
+    rec.vy = r.vy;
+    if (b.type == Boundary::Type::bar) {
+      const double force = b.bar.area * b.stress;
+      rec.fx = force * b.direction[0];
+      rec.fy = force * b.direction[1];
+      rec.stress = b.stress;
+      rec.incident = b.incident;
+      rec.reflected = b.stress - b.incident;
+    } else {
+      rec.fx = r.fx;
+      rec.fy = r.fy;
+    }
+    out.push_back(rec);
+  }
+  return out;
+}
+
 std::vector<BodyProbeRecord> Simulation::body_probe_records() {
   finish_kick();
   std::vector<BodyProbeRecord> out;
@@ -657,6 +713,8 @@ RunInfo run_info(const Case& c) {
 void declare_probes(OutputFile& out, const Simulation& sim) {
   for (const auto& p : sim.model().probes) out.declare_probe(p.name);
   for (const auto& p : sim.model().body_probes) out.declare_body_probe(p.name);
+  for (const auto& b : sim.model().boundary_sets)
+    if (!b.name.empty()) out.declare_boundary(b.name);
 }
 
 HistoryRecord record_history(OutputFile& out, Simulation& sim) {
@@ -668,6 +726,10 @@ HistoryRecord record_history(OutputFile& out, Simulation& sim) {
   const auto bprobes = sim.body_probe_records();
   for (size_t k = 0; k < bprobes.size(); ++k)
     out.append_body_probe(sim.model().body_probes[k].name, bprobes[k]);
+  const auto boundaries = sim.boundary_records();
+  size_t k = 0;
+  for (const auto& b : sim.model().boundary_sets)
+    if (!b.name.empty()) out.append_boundary(b.name, boundaries[k++]);
   return h;
 }
 
@@ -681,6 +743,8 @@ int run_case(const Case& c, const RunOptions& opt) {
                            : opt.output_path.empty() ? c.output.file
                                                      : opt.output_path;
   Simulation sim(c);
+  for (const std::string& note : sim.model().strength_notes)
+    std::fprintf(stderr, "fracta: note: %s\n", note.c_str());
   if (restart) {
     const auto read0 = clock::now();
     read_checkpoint_state(sim, opt.restart_path);

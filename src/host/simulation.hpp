@@ -1,6 +1,6 @@
 // The solver loop (docs/physics.md 1.4 and 2): one Simulation owns a Model and advances it step
 // by step. A step reads like the method: kick-drift, loads, element forces, bond forces, contact
-// search, contact forces, kick, conversion.
+// search, contact forces, boundaries, kick, conversion.
 #pragma once
 #include <string>
 #include <vector>
@@ -22,7 +22,8 @@ class Simulation {
   // One step. With defer_kick, the step's second half kick is left pending and done together
   // with the next step's first (one pass over the nodes instead of two): the velocities are
   // then half-step ones until finish_kick(), which every accessor of the state below calls
-  // first. Rigid bodies project between the two halves, so with rigid bodies it never defers.
+  // first. Rigid bodies project between the two halves, and prescribed velocities are set after
+  // each half, so with either it never defers.
   void step(bool defer_kick = false);
   void finish_kick();
   bool failed() const { return !failure_.empty(); }
@@ -41,6 +42,7 @@ class Simulation {
   HistoryRecord history();  // energies, counts and conservation totals now
   std::vector<ProbeRecord> probe_records();
   std::vector<BodyProbeRecord> body_probe_records();
+  std::vector<BoundaryRecord> boundary_records();  // the named boundaries, in case order
   FrameData frame(const std::vector<std::string>& fields);
 
   // The last good state, kept so a numerical failure can still write it.
@@ -70,8 +72,11 @@ class Simulation {
   BondStepResult bond_forces(double dt);       // cell stresses, bond laws, failure
   void contact_search();                       // candidate pairs (Verlet list)
   ContactPhaseSums contact_forces(double dt);  // disc contact law on the candidates
-  void kick(bool defer);                       // v(n+1), or left pending (defer)
-  void convert();                              // cells that met their criterion become discs
+  // Bars push their faces, supports hold or let go (kernels/boundaries.hpp), with the forces of
+  // this evaluation, which act over the kicks of `kick_interval` (s) until the next one.
+  void boundary_forces(double kick_interval);
+  void kick(bool defer);  // v(n+1), or left pending (defer)
+  void convert();         // cells that met their criterion become discs
   // The force phases at dt = 0 (the constructor): f(0) and the first stable bound.
   void initial_forces();
   // The conversion phase of convert(); returns whether cells converted.

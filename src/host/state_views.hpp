@@ -2,7 +2,7 @@
 // in simulation.cpp) and the checkpoint (checkpoint.cpp) share, so a view added to the solver
 // state is added once, here, and both follow.
 //
-// Not listed, because a step never writes them: reference positions, masses, fixed bits, body
+// Not listed, because a step never writes them: reference positions, masses, body
 // ids, inertia, contact stiffness, connectivity, bond end nodes, rest lengths and cells, the
 // topology CSR arrays (element_alive and bond_state are aliases of elements.alive and
 // bonds.state), load tables. Host-side state (Simulation scalars, rigid bodies, the contact
@@ -31,6 +31,7 @@ void for_each_state_view(StateViews& a, StateViews& b, F&& f) {
   f("nodes.v", n.v, sn.v);
   f("nodes.f", n.f, sn.f);
   f("nodes.f_ext", n.f_ext, sn.f_ext);
+  f("nodes.fixed", n.fixed, sn.fixed);  // supports hold and let go
   f("elements.stress", e.stress, se.stress);
   f("elements.epeq", e.epeq, se.epeq);
   f("elements.qp_volume", e.qp_volume, se.qp_volume);

@@ -431,6 +431,53 @@ struct BondForces {
     return face.reaches(sigma_n, tau);
   }
 
+  // Next to a crack (one of bond b's cells cracked, `cells` > 0 intact ones left): the intact
+  // cell lies half a cell ahead of the bond, in the steep stress rise of a crack tip, so the
+  // normal traction takes the normal strain across the face from the bond itself, at the face
+  // (FaceStrength::local_normal; docs/physics.md 1.2, "Face failure"): the front of a crack sees
+  // the stress where it is. The shear traction is the cells'. Out of line: bond() calls it for
+  // the few bonds beside a crack, and its hot path keeps its code.
+  FRACTA_NOINLINE KOKKOS_FUNCTION bool reaches_strength_beside_crack(const BondLaw& law,
+                                                                     const BondLanes<1>& s,
+                                                                     const double (&s3)[3],
+                                                                     const double cells,
+                                                                     const double fn) const {
+    const int b = s.b[0], i = s.i[0], j = s.j[0];
+    const double area = bonds.area(b);
+    if (!(cells > 0.0) || !(area > 0.0)) return false;
+    const double inverse_L0 = 1.0 / bonds.length0(b);
+    const double n0x = (nodes.x0(j, 0) - nodes.x0(i, 0)) * inverse_L0;
+    const double n0y = (nodes.x0(j, 1) - nodes.x0(i, 1)) * inverse_L0;
+    const double mean = 1.0 / cells;
+    double sigma_n, tau;
+    FaceStrength::traction(s3[0] * mean, s3[1] * mean, s3[2] * mean, n0x, n0y, sigma_n, tau);
+    const double sigma_tt = (s3[0] + s3[1]) * mean - sigma_n;
+    const double local =
+        FaceStrength::local_normal(sigma_n, sigma_tt, fn / area, law.poisson_ratio_eff);
+    return law.face().reaches(local, tau);
+  }
+
+  // Whether one of the bonds b0 .. b0 + 7 has a cracked cell; run_cell: the first lane's cells of
+  // a run (each advances by one per lane), or null to read each slot's. Out of line, so that the
+  // batch's arithmetic keeps its code.
+  FRACTA_NOINLINE bool any_beside_crack(const int b0, const int* run_cell) const {
+    for (int l = 0; l < kLanes; ++l)
+      for (int k = 0; k < 2; ++k) {
+        const int c = run_cell ? (run_cell[k] >= 0 ? run_cell[k] + l : -1) : bonds.cells(b0 + l, k);
+        if (c >= 0 && elements.cell_state(c) == kCellCracked) return true;
+      }
+    return false;
+  }
+
+  // Whether one of bond b's cells is cracked (a side without a cell is not).
+  KOKKOS_INLINE_FUNCTION bool beside_crack(const int b) const {
+    for (int k = 0; k < 2; ++k) {
+      const int c = bonds.cells(b, k);
+      if (c >= 0 && elements.cell_state(c) == kCellCracked) return true;
+    }
+    return false;
+  }
+
   // ---- Scatter --------------------------------------------------------------------------------
 
   // What the lanes' bonds apply (docs/physics.md 1.2): fn n + fs t on disc i, the opposite on j,
@@ -495,6 +542,9 @@ struct BondForces {
     for (int l = 0; l < L; ++l) s.b[l] = b0 + l;
     if (law.softening().cohesive() && any_lane(column<T>(bonds.onset_separation, s.b, true) != 0.0))
       return false;
+    // A bond beside a cracked cell takes the local traction (reaches_strength_beside_crack):
+    // bond by bond.
+    if (any_beside_crack(b0, kRun ? run.cell : nullptr)) return false;
     for (int l = 0; l < L; ++l) {
       s.i[l] = kRun ? run.i + l : bonds.nodes(b0 + l, 0);
       s.j[l] = kRun ? run.j + l : bonds.nodes(b0 + l, 1);
@@ -717,7 +767,8 @@ struct BondForces {
     if (onset == 0.0) {
       double s3[3], cells;
       intact_cells(b, s3, cells);
-      if (reaches_strength(law.face(), s, s3, cells, v.fn, v.fs)) {
+      if (reaches_strength(law.face(), s, s3, cells, v.fn, v.fs) ||
+          (beside_crack(b) && reaches_strength_beside_crack(law, s, s3, cells, v.fn))) {
         onset = start_softening(b, softening, v);
         breaks = onset == 0.0;
       }

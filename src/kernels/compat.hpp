@@ -6,6 +6,14 @@
 #include <Kokkos_Core.hpp>
 #include <string>
 
+// A function the host compiler keeps out of line, so that a rarely taken branch does not change
+// the code (and the contraction of products into multiply-adds) of the hot loop that calls it.
+#if defined(__GNUC__) && !defined(__CUDA_ARCH__)
+#define FRACTA_NOINLINE __attribute__((noinline))
+#else
+#define FRACTA_NOINLINE
+#endif
+
 namespace fracta {
 
 using ExecSpace = Kokkos::DefaultExecutionSpace;

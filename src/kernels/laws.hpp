@@ -99,6 +99,20 @@ struct FaceStrength {
     tau = fabs_(-(sxx * nx + sxy * ny) * ny + (sxy * nx + syy * ny) * nx);
   }
 
+  // Normal traction at a bond next to a crack (docs/physics.md 1.2, "Face failure"): the mean of
+  // the intact cells stands for the stress half a cell away, where a crack tip's stress has
+  // dropped steeply, so the normal strain across the face is taken from the bond itself
+  // (bond_stress = fn / S = E eps_bond, at the face) and the in-face strain from the cells:
+  //   sigma_n' = C11 eps_bond + C12 eps_tt = sigma_n + (bond_stress - (sigma_n - nu sigma_tt)) / (1
+  //   - nu^2)
+  // with the cells' normal and in-face tractions sigma_n, sigma_tt (E, nu: the lattice's
+  // in-plane constants, E*, nu* in plane strain). Equal to sigma_n under uniform strain.
+  template <class T>
+  KOKKOS_INLINE_FUNCTION static T local_normal(const T& sigma_n, const T& sigma_tt,
+                                               const T& bond_stress, double nu) {
+    return sigma_n + (bond_stress - (sigma_n - nu * sigma_tt)) / (1.0 - nu * nu);
+  }
+
   // Whether the traction (sigma_n, tau) reaches the strength (true or a lane mask).
   template <class T>
   KOKKOS_INLINE_FUNCTION auto reaches(const T& sigma_n, const T& tau) const {
@@ -241,6 +255,11 @@ struct CohesiveSoftening {
   }
 };
 
+// Cells a cohesive process zone (length E* G_f / sigma_t^2) must span for crack growth to follow
+// G_f (docs/physics.md 1.2, "Resolving the process zone"): with fewer, the bond tensile strength
+// is capped so that it spans this many (build_lattice).
+constexpr double kCohesiveZoneCells = 4.0;
+
 // Per-material bond parameters (plain data, copied into the kernels by value), and the laws they
 // make. The crack area a cohesive bond stands for (CohesiveSoftening), A_b = kn L0
 // crack_area_factor[kind]: kn L0 / E for an edge bond and kn L0 (1 - nu) / (2 sqrt(2) E) for a
@@ -258,6 +277,7 @@ struct BondLaw {
   double tan_friction = 0;        // tan(phi)
   double fracture_energy = 0;     // G_f (J/m^2); 0 = brittle (the bond breaks at its strength)
   double crack_area_factor[2] = {0, 0};  // per BondKind (m^2 per (N/m) per m)
+  double poisson_ratio_eff = 0;  // nu in plane stress, nu / (1 - nu) in plane strain (local_normal)
 
   KOKKOS_INLINE_FUNCTION SpringLaw springs() const { return {yield_stress, hardening}; }
   KOKKOS_INLINE_FUNCTION FaceStrength face() const {

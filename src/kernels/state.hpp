@@ -314,7 +314,26 @@ struct NodalForces {
   int count = 0;
 };
 
-KOKKOS_INLINE_FUNCTION double table_value(const LoadTables& t, int k, double time) {
+// The same tables in host memory, for the host's own reads (a bar's incident velocity).
+struct HostLoadTables {
+  View<double*>::HostMirror time, value;
+  View<int*>::HostMirror offset;
+  int count = 0;
+};
+
+inline HostLoadTables host_copy(const LoadTables& t) {
+  HostLoadTables h{Kokkos::create_mirror_view(t.time), Kokkos::create_mirror_view(t.value),
+                   Kokkos::create_mirror_view(t.offset), t.count};
+  Kokkos::deep_copy(h.time, t.time);
+  Kokkos::deep_copy(h.value, t.value);
+  Kokkos::deep_copy(h.offset, t.offset);
+  return h;
+}
+
+// Table k at `time`: piecewise linear, its first value before and its last after (LoadTables or
+// HostLoadTables).
+template <class Tables>
+KOKKOS_INLINE_FUNCTION double table_value(const Tables& t, int k, double time) {
   const int begin = t.offset(k), end = t.offset(k + 1);
   if (time <= t.time(begin)) return t.value(begin);
   for (int i = begin + 1; i < end; ++i) {

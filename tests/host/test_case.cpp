@@ -282,6 +282,9 @@ const BadCase kBadCases[] = {
      "needs a tensile_strength > 0"},
     {"fracture_energy_on_j2.toml", 13, "material['steel'].fracture_energy",
      "does not apply to model 'bilinear_j2'"},
+    {"support_diagonal.toml", 23, "boundary[0].direction", "a support pushes along x or y"},
+    {"velocity_component_z.toml", 23, "boundary[0].component", "must be \"x\" or \"y\""},
+    {"duplicate_boundary_name.toml", 27, "boundary['grip'].name", "duplicate boundary name 'grip'"},
 };
 
 INSTANTIATE_TEST_SUITE_P(CaseFiles, CaseBadFile, ::testing::ValuesIn(kBadCases),
