@@ -14,7 +14,7 @@ fail() { printf 'check_docs: %s\n' "$*" >&2; status=1; }
 # The words of a work log (its dated stages, numbered tasks and notes) and paths outside the
 # repository, case-insensitive. Each word is written with one letter in brackets, so that this
 # file, checked like every other, does not match its own pattern.
-pattern='s[e]ssion|this p[a]ss|(i[s]sue|i[t]em|s[t]age) #?[0-9]|lab n[o]tes|\.\./s[h]ared|D[E]SIGN\.md'
+pattern='s[e]ssion|this p[a]ss|(i[s]sue|i[t]em|s[t]age) #?[0-9]|the i[s]sue|lab n[o]tes|\.\./s[h]ared|D[E]SIGN\.md'
 hits=$(grep -rnIiE "$pattern" README.md CHANGELOG.md docs src tests bench scripts cases cuda fuzz \
   CMakeLists.txt .ci --exclude-dir=results 2>/dev/null)
 [ -z "$hits" ] || fail "work-log words or paths outside the repository:"$'\n'"$hits"

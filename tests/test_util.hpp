@@ -249,8 +249,9 @@ inline int expect_same_state(Simulation& first, Simulation& second) {
     ASSERT_EQ(ha.span(), hb.span()) << name;
     using Value = typename std::decay_t<decltype(ha)>::value_type;
     // An empty view may have no storage at all (memcmp must not see a null pointer).
-    if (ha.span() > 0)
+    if (ha.span() > 0) {
       EXPECT_EQ(std::memcmp(ha.data(), hb.data(), ha.span() * sizeof(Value)), 0) << name;
+    }
     ++views;
   });
   return views;

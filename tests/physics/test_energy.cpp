@@ -12,7 +12,7 @@ namespace {
 // A plate hit by a 3 us, 500 MPa pulse on its left edge, then ringing freely for more than
 // 20,000 steps with no bulk viscosity and the (conservative) stiffness hourglass form. The
 // balance kinetic + strain energy + stored hourglass energy - external work must stay within
-// 0.5% (the bound; central differences conserve a shadow energy, so the error stays
+// 0.5% (central differences conserve a shadow energy, so the error stays
 // bounded at O(dt^2) instead of drifting).
 TEST(EnergyBalance, ElasticPlateConservesEnergyOver20000Steps) {
   const double h = 1.875e-3;

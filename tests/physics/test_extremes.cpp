@@ -76,7 +76,7 @@ double body_momentum_y(const Simulation& sim, int body) {
 // the default viscous hourglass control and bulk viscosity: no NaN, no failure, kinetic energy
 // never above the work put in (1% slack for the O(dt^2) difference between the step-end
 // kinetic energy and the energy the scheme conserves), and the energy balance closed to 1%
-// (the bound is 5% for impacts; the scheme's own error here is O(dt^2) per
+// (5% is allowed for impacts; the scheme's own error here is O(dt^2) per
 // trapezoidal work term, with no drift).
 TEST(Extremes, PaperPlateStableAtSafety095For1e5Steps) {
   Case c = paper_plate(3.75e-3);
@@ -230,8 +230,8 @@ TEST(Extremes, FixedDtRefusedJustAboveTheBound) {
 // elements themselves take the distortion) and a rigid projectile into the adaptive slab.
 // Each run reaches its end without NaN; the mass is exact (node masses never change); the
 // momentum is conserved to 1e-9 of the projectile's (no load, no support: internal, contact
-// and conversion forces cancel in pairs, round-off only); the energy balance closes within the
-// issue's 5%; the projectile lost at least 10% of its momentum (they met).
+// and conversion forces cancel in pairs, round-off only); the energy balance closes within
+// 5% (a fragmenting impact); the projectile lost at least 10% of its momentum (they met).
 // Not asserted: penetration depth. With an FE slab (and the same with an FE slab under a rigid
 // projectile) the projectile slips between the slab's surface discs once they spread by more
 // than a cell: contact is disc-on-disc only (docs/physics.md 1.3), there is no node-to-segment
@@ -469,7 +469,7 @@ TEST(Extremes, ScaleInvarianceFromMicrometreToMetreCells) {
 // turns): the centrifugal load appears suddenly, so the block vibrates while it turns, and
 // every step rotates its stresses (Jaumann) and its geometry. The total energy (kinetic +
 // strain + the hourglass and viscous work) must stay within 1% of its value after the first
-// step (the bound), checked every 10^4 steps. Before the fix in fe_forces.hpp (strain
+// step, checked every 10^4 steps. Before the fix in fe_forces.hpp (strain
 // increment added in the mid-step frame) this block gained 200 times its energy by 1.5 10^5
 // steps (measured with bulk viscosity off; with the stiffness hourglass form or 2 x 2
 // integration it inverted): adding the increment in a frame turned by half a step is a

@@ -1,6 +1,7 @@
 // Impacts from 50 to 2000 m/s: a steel projectile (FE, bilinear J2) into an adaptive concrete
 // slab (Mohr-Coulomb elements converting to bonded discs), coarse mesh. Every run must reach its
-// end without NaN, keep the mass exact, and close the energy balance within the 5%.
+// end without NaN, keep the mass exact, and close the energy balance within 5% (contact,
+// conversion and breakage at coarse cells).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -17,7 +17,7 @@ void record(const WaveResult& r) {
   ::testing::Test::RecordProperty("plateau_error", std::to_string(r.plateau / r.v_exact - 1));
 }
 
-// Tolerance 1%: the requirement; the one-point Q4 with lumped mass has a dispersive front,
+// Tolerance 1%: the one-point Q4 with lumped mass has a dispersive front,
 // whose half-amplitude point travels at c to well within that at 40 cells per probe distance.
 TEST(PlaneWave, PlaneStressSpeedAndParticleVelocity) {
   const WaveResult r = test::run_plane_wave(Formulation::plane_stress);
@@ -34,8 +34,8 @@ TEST(PlaneWave, PlaneStrainSpeedAndParticleVelocity) {
 }
 
 // The same plane wave through the bonded disc lattice (docs/physics.md 1.2): its stiffness equals the
-// continuum's, so speed and plateau particle velocity match the continuum values; 1.5% is the
-// issue's bound for the lattice, whose front rings more (no bulk viscosity acts on discs).
+// continuum's, so speed and plateau particle velocity match the continuum values; 1.5% for the
+// lattice, whose front rings more (no bulk viscosity acts on discs).
 TEST(PlaneWave, LatticePlaneStressSpeedAndParticleVelocity) {
   const WaveResult r = test::run_plane_wave(Formulation::plane_stress, BodyMethod::de);
   EXPECT_NEAR(r.speed, r.c_exact, 0.015 * r.c_exact);
