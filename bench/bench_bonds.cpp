@@ -22,7 +22,11 @@ enum class BondPart { phase, cell_stress, bond_forces };
 // bound_faces: whether the cell kernel may mark cells below their strength on every face (the
 // bond kernel then skips their failure check: kCellBelowStrength); false times the full check of
 // every bond, the case of a lattice loaded near its strength.
-void bond_part(benchmark::State& state, BondPart part, bool bound_faces = true) {
+// weibull_modulus > 0: Weibull bond strengths (kernels/heterogeneity.hpp); rate: a
+// rate_dependence table (RateLaw, with the velocity filter of every step). The *Weibull and
+// *Rate benchmarks give their cost beside the uniform, rate-independent ones.
+void bond_part(benchmark::State& state, BondPart part, bool bound_faces = true,
+               double weibull_modulus = 0, bool rate = false) {
   using namespace fracta;
   const int n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(state.range(0))))) - 1;
   const double h = 1e-3;
@@ -32,6 +36,8 @@ void bond_part(benchmark::State& state, BondPart part, bool bound_faces = true) 
   c.materials[0].cohesion = 1e12;  // strong: no bond breaks, every bond works every step
   c.materials[0].friction_angle = 0.5;
   c.materials[0].tensile_strength = 1e12;
+  c.materials[0].weibull_modulus = weibull_modulus;
+  if (rate) c.materials[0].rate_dependence = {{1e-2, 1e2, 1e4}, {1.0, 1.5, 4.0}, {1.0, 1.0, 1.0}};
   c.sim.end_time = 1.0;
   test::add_pressure(c, test::segment(0, 0, 0, n * h), {0.0}, {100e6});
   Simulation sim(c);
@@ -41,6 +47,7 @@ void bond_part(benchmark::State& state, BondPart part, bool bound_faces = true) 
   for (auto _ : state) {
     Kokkos::fence();
     const auto t0 = std::chrono::steady_clock::now();
+    if (part == BondPart::phase) filter_velocities(m.nodes);
     if (part != BondPart::bond_forces)
       compute_cell_stress(m.converted, m.converted_count, m.lattice_stiffness, m.bond_laws,
                           m.elements, m.nodes, bound_faces);
@@ -66,6 +73,19 @@ void BM_BondPhase(benchmark::State& state) {
 void BM_BondPhaseFullCheck(benchmark::State& state) {
   bond_part(state, BondPart::phase, false);
 }
+// The same two with Weibull strengths (m = 6): the cost of heterogeneity.
+void BM_BondPhaseWeibull(benchmark::State& state) {
+  bond_part(state, BondPart::phase, true, 6.0);
+}
+void BM_BondPhaseFullCheckWeibull(benchmark::State& state) {
+  bond_part(state, BondPart::phase, false, 6.0);
+}
+void BM_BondPhaseRate(benchmark::State& state) {
+  bond_part(state, BondPart::phase, true, 0.0, true);
+}
+void BM_BondPhaseFullCheckRate(benchmark::State& state) {
+  bond_part(state, BondPart::phase, false, 0.0, true);
+}
 void BM_CellStress(benchmark::State& state) {
   bond_part(state, BondPart::cell_stress);
 }
@@ -80,6 +100,10 @@ void timed_discs(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_BondPhase)->Arg(10000)->Arg(100000)->Arg(1000000)->Apply(timed_discs);
 BENCHMARK(BM_BondPhaseFullCheck)->Arg(1000000)->Apply(timed_discs);
+BENCHMARK(BM_BondPhaseWeibull)->Arg(1000000)->Apply(timed_discs);
+BENCHMARK(BM_BondPhaseFullCheckWeibull)->Arg(1000000)->Apply(timed_discs);
+BENCHMARK(BM_BondPhaseRate)->Arg(1000000)->Apply(timed_discs);
+BENCHMARK(BM_BondPhaseFullCheckRate)->Arg(1000000)->Apply(timed_discs);
 BENCHMARK(BM_CellStress)->Arg(1000000)->Apply(timed_discs);
 BENCHMARK(BM_BondForces)->Arg(1000000)->Apply(timed_discs);
 

@@ -594,7 +594,7 @@ SimulationParams read_simulation(const Reader& r) {
   r.allow_only({"title", "formulation", "thickness", "end_time", "dt_safety", "dt",
                 "allow_unstable_dt", "output_interval", "history_interval", "hourglass",
                 "hourglass_coefficient", "integration", "bulk_viscosity_linear",
-                "bulk_viscosity_quadratic", "energy_error_limit", "conversion_interval",
+                "bulk_viscosity_quadratic", "energy_error_limit", "conversion_interval", "seed",
                 "conversion_on_tension"});
   SimulationParams s;
   s.pos = r.pos();
@@ -627,6 +627,10 @@ SimulationParams read_simulation(const Reader& r) {
     r.fail("conversion_interval", "must be a whole number of steps");
   s.conversion_interval = static_cast<int>(interval);
   s.conversion_on_tension = r.boolean("conversion_on_tension", s.conversion_on_tension);
+  // Up to 2^53: every whole number a double holds exactly (TOML integers and floats alike).
+  const double seed = r.number("seed", Range::ge(0).le(9007199254740992.0), 0.0);
+  if (seed != std::floor(seed)) r.fail("seed", "must be a whole number");
+  s.seed = static_cast<std::uint64_t>(seed);
   return s;
 }
 
@@ -636,7 +640,9 @@ const KeyList kMaterialCommonKeys = {"name",
                                      "youngs_modulus",
                                      "poisson_ratio",
                                      "tensile_strength",
-                                     "conversion_strain"};
+                                     "conversion_strain",
+                                     "weibull_modulus",
+                                     "rate_dependence"};
 const std::map<MaterialModel, KeyList> kMaterialModelKeys = {
     {MaterialModel::elastic, {"fracture_energy"}},
     {MaterialModel::bilinear_j2, {"yield_stress", "plastic_modulus", "tangent_modulus"}},
@@ -653,6 +659,40 @@ double read_plastic_modulus(const Reader& r, double youngs_modulus) {
   if (!r.has("plastic_modulus"))
     r.fail("plastic_modulus", "required key is missing (or give 'tangent_modulus')");
   return r.number("plastic_modulus", Range::ge(0));
+}
+
+// [[material]] rate_dependence = { strain_rate = [...], strength = [...], fracture_energy = [...]
+// }: dynamic increase factors (>= 1) at increasing strain rates (1/s); fracture_energy optional.
+Material::RateTable read_rate_dependence(const Reader& r) {
+  r.allow_only({"strain_rate", "strength", "fracture_energy"});
+  Material::RateTable t;
+  t.strain_rate = r.numbers("strain_rate");
+  t.strength = r.numbers("strength");
+  t.fracture_energy = r.has("fracture_energy") ? r.numbers("fracture_energy")
+                                               : std::vector<double>(t.strain_rate.size(), 1.0);
+  const size_t n = t.strain_rate.size();
+  if (n < 1 || n > Material::RateTable::kMaxEntries)
+    r.fail("strain_rate",
+           "must have 1 to " + std::to_string(Material::RateTable::kMaxEntries) + " entries");
+  for (const char* key : {"strength", "fracture_energy"}) {
+    const std::vector<double>& f = std::string(key) == "strength" ? t.strength : t.fracture_energy;
+    if (f.size() != n)
+      r.fail(key, "has " + std::to_string(f.size()) + " entries but 'strain_rate' has " +
+                      std::to_string(n));
+    for (size_t i = 0; i < n; ++i)
+      if (!(f[i] >= 1.0))
+        r.fail(key, "dynamic increase factors must be >= 1 (" + std::string(key) + "[" +
+                        std::to_string(i) + "] = " + fmt(f[i]) + ")");
+  }
+  for (size_t i = 0; i < n; ++i) {
+    if (!(t.strain_rate[i] > 0.0))
+      r.fail("strain_rate", "must be > 0 (strain_rate[" + std::to_string(i) +
+                                "] = " + fmt(t.strain_rate[i]) + ")");
+    if (i > 0 && !(t.strain_rate[i] > t.strain_rate[i - 1]))
+      r.fail("strain_rate", "must be increasing (strain_rate[" + std::to_string(i) +
+                                "] = " + fmt(t.strain_rate[i]) + ")");
+  }
+  return t;
 }
 
 Material read_material(const Reader& r, Names& names) {
@@ -685,6 +725,18 @@ Material read_material(const Reader& r, Names& names) {
   m.fracture_energy = r.number("fracture_energy", Range::ge(0), 0.0);
   if (m.fracture_energy > 0.0 && !(m.tensile_strength > 0.0))
     r.fail("fracture_energy", "needs a tensile_strength > 0 (the softening starts there)");
+  m.weibull_modulus = r.number("weibull_modulus", Range::ge(0).le(1000), 0.0);
+  if (m.weibull_modulus > 0.0 && m.weibull_modulus < 1.0)
+    r.fail("weibull_modulus", "must be 0 (uniform strength) or at least 1");
+  if (m.weibull_modulus > 0.0 && !(m.tensile_strength > 0.0 || m.cohesion > 0.0))
+    r.fail("weibull_modulus", "needs a tensile_strength or cohesion > 0 (it scales them)");
+  if (const auto rate = r.optional_table("rate_dependence")) {
+    m.rate_dependence = read_rate_dependence(*rate);
+    if (!(m.tensile_strength > 0.0 || m.cohesion > 0.0))
+      r.fail("rate_dependence", "needs a tensile_strength or cohesion > 0 (it scales them)");
+    if (rate->has("fracture_energy") && !(m.fracture_energy > 0.0))
+      rate->fail("fracture_energy", "needs the material's fracture_energy > 0");
+  }
   return m;
 }
 

@@ -4,6 +4,7 @@
 // file, radians in the struct where noted.
 #pragma once
 #include <array>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -68,6 +69,13 @@ struct Material {
   double tensile_strength = 0;   // Pa; tension cut-off (mohr_coulomb) and bond strength; 0 = none
   double conversion_strain = 0;  // equivalent plastic strain that converts an element
   double fracture_energy = 0;    // J/m^2, cohesive bond softening; 0 = brittle bonds
+  double weibull_modulus = 0;    // m of the bonds' strength factors (unit mean); 0 = uniform
+  // Dynamic increase factors of the bond strength and fracture energy against the bond's strain
+  // rate (1/s, increasing); empty = rate independent.
+  struct RateTable {
+    static constexpr size_t kMaxEntries = 16;  // RateLaw::kMaxEntries
+    std::vector<double> strain_rate, strength, fracture_energy;
+  } rate_dependence;
   SourcePos pos;
 };
 
@@ -166,6 +174,7 @@ struct SimulationParams {
   double energy_error_limit = 0.5;     // relative error above which the run stops (exit 3)
   int conversion_interval = 1;         // steps between conversion checks of adaptive bodies
   bool conversion_on_tension = false;  // also convert elements at the tension cut-off
+  std::uint64_t seed = 0;              // random draws (Weibull strengths): one realisation each
   SourcePos pos;                       // the [simulation] table
   SourcePos dt_pos;                    // the `dt` key, when given
 };

@@ -30,8 +30,9 @@ namespace fs = std::filesystem;
 constexpr const char* kFormat = "fracta checkpoint";
 // 2: bond damage and onset separation; 3: the lists of used bond slots and of particles;
 // 4: the FE dissipation sums; 5: bond slots in the bond kernel's order (build_lattice);
-// 6: the contact's discs are the boundary nodes and the particles (x_build has one row each)
-constexpr std::int64_t kFormatVersion = 8;
+// 6: the contact's discs are the boundary nodes and the particles (x_build has one row each);
+// 8: nodes.fixed (supports); 9: the Weibull strength factors (/strength), when drawn
+constexpr std::int64_t kFormatVersion = 9;
 
 using h5::Handle;
 
@@ -126,6 +127,12 @@ struct CheckpointIO {
       else
         kWrite.write_attribute(scalar_group.get(), name, static_cast<std::int64_t>(value));
     });
+    // Set-up data a step never writes, kept so a restart continues the same realisation.
+    if (s.model_.bonds.strength_scale.extent(0) > 0) {
+      const Handle strength = kWrite.create_group(file, "strength");
+      write_view(strength.get(), "bonds", s.model_.bonds.strength_scale);
+      write_view(strength.get(), "cells", s.model_.elements.cell_strength_scale);
+    }
     std::vector<double> rigid;
     for (const RigidBody& b : s.model_.rigid)
       rigid.insert(rigid.end(), {b.x, b.y, b.theta, b.vx, b.vy, b.omega});
@@ -148,6 +155,11 @@ struct CheckpointIO {
       read_view(state.get(), name, v);
     });
     s.stable_dt_.invalidate();  // the bonds and radii were replaced
+    if (s.model_.bonds.strength_scale.extent(0) > 0) {
+      const Handle strength = kRead.open_group(file, "strength");
+      read_view(strength.get(), "bonds", s.model_.bonds.strength_scale);
+      read_view(strength.get(), "cells", s.model_.elements.cell_strength_scale);
+    }
     const Handle scalar_group = kRead.open_group(file, "scalars");
     ListCounts lists;
     scalars(s, lists, [&](const char* name, auto& value) {

@@ -58,6 +58,10 @@ constexpr double kLatticeElementBytes = 88;
 // 1030 B itemised).
 // Cohesive state (damage, onset and final separation) adds 24 B per slot.
 constexpr double kConvertibleCellBytes = 4 * (108 + 24) + 32 + 16 + 232 + 350;
+// Weibull strengths: a factor per slot and the smallest per cell (heterogeneity.hpp).
+constexpr double kWeibullCellBytes = 4 * 8 + 8;
+// Rate dependence: the filtered velocity of every node, in the state and its snapshot.
+constexpr double kRateNodeBytes = 2 * 16;
 // Contact discs (every node of a convertible body, the boundary nodes of the others): disc id,
 // position at the last build, binning, candidate pairs; the gather's columns (8 B; its rows
 // are the list's row offsets) and, per candidate pair (about 2 per disc of a lattice: the edge
@@ -94,9 +98,14 @@ MemoryEstimate estimate_memory(const Case& c) {
     double bytes = nodes * kNodeBytes +
                    cells * (kElementBytes + qp * kQuadraturePointBytes + kRunBytesPerCell);
     if (lattice) bytes += nodes * kLatticeNodeBytes + cells * kLatticeElementBytes;
-    if (body_has_lattice(c.bodies[i]))
+    if (body_has_lattice(c.bodies[i])) {
       bytes += cells * kConvertibleCellBytes + nodes * kDiscBytes;
-    else if (lattice)
+      const int material = c.bodies[i].material_index;
+      if (material >= 0 && c.materials[material].weibull_modulus > 0.0)
+        bytes += cells * kWeibullCellBytes;
+      if (material >= 0 && !c.materials[material].rate_dependence.strain_rate.empty())
+        bytes += nodes * kRateNodeBytes;
+    } else if (lattice)
       bytes += 2 * (g.nx + g.ny) * kDiscBytes;  // boundary nodes
     e.cells += cells;
     e.nodes += nodes;

@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "kernels/conversion.hpp"
+#include "kernels/heterogeneity.hpp"
 
 namespace fracta {
 
@@ -262,6 +263,42 @@ bool needs_particles(const Case& c) {
   return false;
 }
 
+// Weibull strength factors of the bond slots (kernels/heterogeneity.hpp), when a material asks
+// for them, and a note of their range for check and run.
+void draw_heterogeneity(Model& model) {
+  const Case& c = model.scene;
+  std::vector<StrengthWeibull> weibull(c.materials.size());
+  bool heterogeneous = false;
+  for (size_t mi = 0; mi < c.materials.size(); ++mi) {
+    const double m = c.materials[mi].weibull_modulus;
+    if (!(m > 0.0)) continue;
+    weibull[mi] = {m, 1.0 / std::tgamma(1.0 + 1.0 / m)};
+    heterogeneous = true;
+  }
+  Bonds& bonds = model.bonds;
+  if (!heterogeneous || bonds.count == 0) return;
+  bonds.strength_scale = View<double*>("fracta::bond_strength_scale", bonds.count);
+  model.elements.cell_strength_scale =
+      View<double*>("fracta::cell_strength_scale", model.elements.count);
+  draw_strength_scales(bonds, model.elements, model.element_bonds,
+                       to_device_1d<StrengthWeibull>("strength_weibull", weibull), c.sim.seed);
+  double lowest = 0, highest = 0;
+  const View<double*> scale = bonds.strength_scale;
+  Kokkos::parallel_reduce(
+      "fracta::strength_scale_range", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
+      KOKKOS_LAMBDA(const int b, double& lo, double& hi) {
+        lo = min_(lo, scale(b));
+        hi = max_(hi, scale(b));
+      },
+      Kokkos::Min<double>(lowest), Kokkos::Max<double>(highest));
+  char note[200];
+  std::snprintf(note, sizeof note,
+                "Weibull bond strengths, seed %llu: factors %.3g to %.3g of the strength over %d "
+                "bond slots",
+                static_cast<unsigned long long>(c.sim.seed), lowest, highest, bonds.count);
+  model.strength_notes.push_back(note);
+}
+
 // Bond slots (every edge once and every diagonal of the elements of convertible bodies, in the
 // bond kernel's order; none when no body is convertible), particle views, the topology for contact
 // exclusion, the contact system, and the time-0 conversion of de parts.
@@ -472,10 +509,20 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
       law.cohesion = mat.cohesion;
       law.tan_friction = std::tan(mat.friction_angle);
     }
+    // Dynamic increase factors (RateLaw): the table in log10 of the strain rate.
+    static_assert(Material::RateTable::kMaxEntries == RateLaw::kMaxEntries);
+    const Material::RateTable& rate = mat.rate_dependence;
+    law.rate.count = static_cast<int>(rate.strain_rate.size());
+    for (int k = 0; k < law.rate.count; ++k) {
+      law.rate.log10_rate[k] = std::log10(rate.strain_rate[k]);
+      law.rate.strength[k] = rate.strength[k];
+      law.rate.fracture_energy[k] = rate.fracture_energy[k];
+    }
     laws.push_back(law);
   }
   model.lattice_stiffness = to_device_1d<LatticeStiffness>("lattice_stiffness", stiffness);
   model.bond_laws = to_device_1d<BondLaw>("bond_laws", laws);
+  draw_heterogeneity(model);
 
   // Particle views of the nodes: radius half the cell, inertia m r^2 / 2, lambda k1.
   Nodes& nodes = model.nodes;
@@ -728,6 +775,14 @@ Model build_model(const Case& c) {
   // The lattice (bond slots of convertible bodies, disc views, contact) is built when a body can
   // hold discs or when several bodies can touch; a single FE body needs none of it.
   if (needs_particles(c) || c.bodies.size() > 1) build_lattice(model, converted);
+  // The filtered velocities of rate-dependent bonds (filter_velocities), from the initial ones.
+  const bool rate_dependent =
+      std::any_of(c.materials.begin(), c.materials.end(),
+                  [](const Material& mat) { return !mat.rate_dependence.strain_rate.empty(); });
+  if (rate_dependent && model.bonds.count > 0) {
+    model.nodes.v_filtered = View<double* [2]>("fracta::node_v_filtered", model.nodes.count);
+    Kokkos::deep_copy(model.nodes.v_filtered, model.nodes.v);
+  }
   return model;
 }
 

@@ -273,6 +273,7 @@ FeStepSums Simulation::element_forces(double dt) {
 
 BondStepResult Simulation::bond_forces(double dt) {
   Model& m = model_;
+  filter_velocities(m.nodes);  // every step, also before the first conversion (RateLaw)
   // Bonds work once a cell has converted.
   if (m.bonds.count == 0 || m.converted_count == 0) return {};
   ProfilingRegion region("fracta::bond_forces");

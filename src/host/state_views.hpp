@@ -29,6 +29,7 @@ void for_each_state_view(StateViews& a, StateViews& b, F&& f) {
   Bonds &bo = a.bonds, &sb = b.bonds;
   f("nodes.x", n.x, sn.x);
   f("nodes.v", n.v, sn.v);
+  f("nodes.v_filtered", n.v_filtered, sn.v_filtered);  // empty without a rate_dependence
   f("nodes.f", n.f, sn.f);
   f("nodes.f_ext", n.f_ext, sn.f_ext);
   f("nodes.fixed", n.fixed, sn.fixed);  // supports hold and let go

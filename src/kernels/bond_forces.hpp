@@ -58,7 +58,7 @@ struct CellStress {
   template <class T>
   KOKKOS_INLINE_FUNCTION auto stress_of(const T (&x0)[4], const T (&y0)[4], const T (&x)[4],
                                         const T (&y)[4], const T (&offset)[3], int material,
-                                        T (&stress)[3]) const {
+                                        const T& strength_scale, T (&stress)[3]) const {
     T ux[4], uy[4], green[3];
     for (int a = 0; a < 4; ++a) {
       ux[a] = x[a] - x0[a];
@@ -77,8 +77,12 @@ struct CellStress {
     stress[1] = syy;
     stress[2] = sxy;
     if (!bound_faces) return !all_lanes<T>();
-    const T centre = 0.5 * (sxx + syy);
-    const T radius = sqrt_(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
+    T centre = 0.5 * (sxx + syy);
+    T radius = sqrt_(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
+    if (elements.cell_strength_scale.extent(0) > 0) {  // below w sigma_t: sigma / w below sigma_t
+      centre = centre / strength_scale;
+      radius = radius / strength_scale;
+    }
     return laws(material).face().below_on_every_face(centre, radius);
   }
 
@@ -101,7 +105,9 @@ struct CellStress {
     const double offset[3] = {elements.cell_strain_offset(e, 0), elements.cell_strain_offset(e, 1),
                               elements.cell_strain_offset(e, 2)};
     double stress[3];
-    const bool below = stress_of(x0, y0, x, y, offset, elements.material(e), stress);
+    const double scale =
+        elements.cell_strength_scale.extent(0) > 0 ? elements.cell_strength_scale(e) : 1.0;
+    const bool below = stress_of(x0, y0, x, y, offset, elements.material(e), scale, stress);
     for (int k = 0; k < 3; ++k) elements.cell_stress(e, k) = stress[k];
     elements.cell_state(e) = state_of(e, below);
   }
@@ -115,7 +121,13 @@ struct CellStress {
       load_pairs(&nodes.x(0, 0) + 2 * node[a][0], x[a], y[a]);
     }
     load_triples(&elements.cell_strain_offset(e0, 0), offset[0], offset[1], offset[2]);
-    const Mask8 below = stress_of(x0, y0, x, y, offset, elements.material(e0), stress);
+    int cell[8];
+    for (int l = 0; l < 8; ++l) cell[l] = e0 + l;
+    const Double8 scale =
+        elements.cell_strength_scale.extent(0) > 0
+            ? load_lanes<Double8, 8>(elements.cell_strength_scale.data(), cell, true)
+            : splat<Double8>(1.0);
+    const Mask8 below = stress_of(x0, y0, x, y, offset, elements.material(e0), scale, stress);
     store_triples(&elements.cell_stress(e0, 0), stress[0], stress[1], stress[2]);
     for (int l = 0; l < 8; ++l) elements.cell_state(e0 + l) = state_of(e0 + l, below[l] != 0);
   }
@@ -410,10 +422,13 @@ struct BondForces {
   // bond at sigma_t and a direct shear test at tau = c + sigma tan(phi): a single bond's fn / S
   // cannot see the stress along its face (the Poisson coupling) and would miss the envelope under
   // confinement. With no intact cell left (a fragment's edge): the bond's own fn / S and |fs| / S.
+  // The strengths are scaled by each bond's Weibull factor (Bonds::strength_scale) and by
+  // rate_factor (the bond-by-bond path's dynamic increase factor, RateLaw).
   template <class T, int L>
   KOKKOS_FORCEINLINE_FUNCTION auto reaches_strength(const FaceStrength& face, const BondLanes<L>& s,
                                                     const T (&s3)[3], const T& cells, const T& fn,
-                                                    const T& fs) const {
+                                                    const T& fs,
+                                                    const double rate_factor = 1.0) const {
     T x0i, y0i, x0j, y0j;
     node_pairs(nodes.x0, s.i, s.run, x0i, y0i);
     node_pairs(nodes.x0, s.j, s.run, x0j, y0j);
@@ -428,7 +443,10 @@ struct BondForces {
       sigma_n = cells > 0.0 ? sigma_n : (area > 0.0 ? fn / area : splat<T>(0.0));
       tau = cells > 0.0 ? tau : (area > 0.0 ? fabs_(fs) / area : splat<T>(0.0));
     }
-    return face.reaches(sigma_n, tau);
+    const bool weibull = bonds.strength_scale.extent(0) > 0;
+    if (!weibull && rate_factor == 1.0) return face.reaches(sigma_n, tau);
+    const T scale = weibull ? column<T>(bonds.strength_scale, s.b, true) : splat<T>(1.0);
+    return face.reaches(sigma_n, tau, scale * rate_factor);
   }
 
   // Next to a crack (one of bond b's cells cracked, `cells` > 0 intact ones left): the intact
@@ -437,11 +455,9 @@ struct BondForces {
   // (FaceStrength::local_normal; docs/physics.md 1.2, "Face failure"): the front of a crack sees
   // the stress where it is. The shear traction is the cells'. Out of line: bond() calls it for
   // the few bonds beside a crack, and its hot path keeps its code.
-  FRACTA_NOINLINE KOKKOS_FUNCTION bool reaches_strength_beside_crack(const BondLaw& law,
-                                                                     const BondLanes<1>& s,
-                                                                     const double (&s3)[3],
-                                                                     const double cells,
-                                                                     const double fn) const {
+  FRACTA_NOINLINE KOKKOS_FUNCTION bool reaches_strength_beside_crack(
+      const BondLaw& law, const BondLanes<1>& s, const double (&s3)[3], const double cells,
+      const double fn, const double rate_factor) const {
     const int b = s.b[0], i = s.i[0], j = s.j[0];
     const double area = bonds.area(b);
     if (!(cells > 0.0) || !(area > 0.0)) return false;
@@ -454,7 +470,20 @@ struct BondForces {
     const double sigma_tt = (s3[0] + s3[1]) * mean - sigma_n;
     const double local =
         FaceStrength::local_normal(sigma_n, sigma_tt, fn / area, law.poisson_ratio_eff);
-    return law.face().reaches(local, tau);
+    const bool weibull = bonds.strength_scale.extent(0) > 0;
+    if (!weibull && rate_factor == 1.0) return law.face().reaches(local, tau);
+    return law.face().reaches(local, tau, (weibull ? bonds.strength_scale(b) : 1.0) * rate_factor);
+  }
+
+  // The magnitude of bond b's normal strain rate |(v_j - v_i) . n| / L0 (1/s), with the
+  // filtered half-step velocities (filter_velocities; RateLaw).
+  KOKKOS_INLINE_FUNCTION double normal_strain_rate(const BondLanes<1>& s,
+                                                   const BondGeometry<double>& g,
+                                                   const double length0) const {
+    const int i = s.i[0], j = s.j[0];
+    const View<double* [2]>& v = nodes.v_filtered;
+    const double rate = ((v(j, 0) - v(i, 0)) * g.nx + (v(j, 1) - v(i, 1)) * g.ny) / length0;
+    return fabs_(rate);
   }
 
   // Whether one of the bonds b0 .. b0 + 7 has a cracked cell; run_cell: the first lane's cells of
@@ -761,14 +790,18 @@ struct BondForces {
     const BondLaw& law = laws(bonds.material(b));
     const BondGeometry<double> g = geometry<double>(s, true);
     BondValues v = springs(s, g, law);
-    const CohesiveSoftening softening = law.softening();
+    CohesiveSoftening softening = law.softening();
     double onset = softening.cohesive() ? bonds.onset_separation(b) : 0.0;
     bool breaks = false;
     if (onset == 0.0) {
       double s3[3], cells;
       intact_cells(b, s3, cells);
-      if (reaches_strength(law.face(), s, s3, cells, v.fn, v.fs) ||
-          (beside_crack(b) && reaches_strength_beside_crack(law, s, s3, cells, v.fn))) {
+      const double rate = law.rate.active() ? normal_strain_rate(s, g, v.length0) : 0.0;
+      const double rate_factor = law.rate.active() ? law.rate.strength_factor(rate) : 1.0;
+      if (reaches_strength(law.face(), s, s3, cells, v.fn, v.fs, rate_factor) ||
+          (beside_crack(b) &&
+           reaches_strength_beside_crack(law, s, s3, cells, v.fn, rate_factor))) {
+        if (law.rate.active()) softening.fracture_energy *= law.rate.fracture_energy_factor(rate);
         onset = start_softening(b, softening, v);
         breaks = onset == 0.0;
       }
@@ -800,6 +833,25 @@ struct BondForces {
     scatter(s, g, v.fn, v.fs, true);
   }
 };
+
+// The velocities the bonds' strain rates are taken from (RateLaw): an exponential average of the
+// half-step velocity, v_f <- v_f + w (v - v_f), weight w = kVelocityFilterWeight per step, so
+// over about ten steps. The lattice rings at periods of a few steps (its highest frequency,
+// about 2 c / h), where a bond's instantaneous strain rate swings far above and below its
+// mean; the average passes 7 % of a 4-step oscillation and 32 % of a 20-step one, and follows
+// a loading rate that changes over more than about ten steps.
+constexpr double kVelocityFilterWeight = 0.1;
+
+inline void filter_velocities(const Nodes& nodes) {
+  if (nodes.v_filtered.extent(0) == 0) return;
+  const View<double*[2]> v = nodes.v, v_filtered = nodes.v_filtered;
+  Kokkos::parallel_for(
+      "fracta::filter_velocities", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
+      KOKKOS_LAMBDA(const int n) {
+        for (int k = 0; k < 2; ++k)
+          v_filtered(n, k) += kVelocityFilterWeight * (v(n, k) - v_filtered(n, k));
+      });
+}
 
 // Bond forces added into nodes.f and nodes.moment. The list is increasing, so the order of
 // every node's sum is the one of the sweep over all slots. Without a usable bonds.scatter (the

@@ -122,6 +122,16 @@ struct FaceStrength {
     return r;
   }
 
+  // The same for a bond of strength factor `scale` (kernels/heterogeneity.hpp): sigma_t and c
+  // scaled, the friction not.
+  template <class T>
+  KOKKOS_INLINE_FUNCTION auto reaches(const T& sigma_n, const T& tau, const T& scale) const {
+    auto r = !all_lanes<T>();
+    if (tensile_strength > 0.0) r = r || sigma_n >= tensile_strength * scale;
+    if (cohesion > 0.0) r = r || tau >= cohesion * scale - sigma_n * tan_friction;
+    return r;
+  }
+
   // Whether a stress of Mohr circle (centre C, radius R) is below the strength on every face,
   // by a margin. Over the faces, sigma_n <= C + R, and tau + sigma_n tan(phi) is largest where the
   // line of slope -tan(phi) touches the circle: C tan(phi) + R sqrt(1 + tan(phi)^2). Both bounds
@@ -268,6 +278,46 @@ constexpr double kCohesiveZoneCells = 4.0;
 // that face (per row: one edge bond, k1, 1 / (1 + nu); two diagonals, k2, nu / (2 (1 + nu))
 // each), so such a crack dissipates G_f per unit area exactly (tested). kn is the bond's own
 // stiffness, so a boundary edge with one cell carries half.
+// Rate dependence of the bond strength and fracture energy (docs/physics.md 1.2, "Rate
+// dependence"): dynamic increase factors tabulated against the strain rate, as LS-DYNA's
+// strain-rate curves and the CEB-FIP Model Code's tensile DIF (scripts/dif_table.py tabulates
+// that form): piecewise linear in log10 of the rate, held at the end values beyond the table.
+// The rate is the magnitude of the bond's normal strain rate, |(v_j - v_i) . n| / L0, when it
+// reaches its strength. Factors are >= 1 (case.cpp), so the strength bounds of the cell stress
+// and of the batches, which leave the factor out, stay on the safe side.
+struct RateLaw {
+  static constexpr int kMaxEntries = 16;
+  int count = 0;  // 0 = rate independent
+  double log10_rate[kMaxEntries] = {};
+  double strength[kMaxEntries] = {};
+  double fracture_energy[kMaxEntries] = {};
+
+  KOKKOS_INLINE_FUNCTION bool active() const { return count > 0; }
+
+  // The factor of `column` (strength or fracture_energy) at strain rate `rate` (1/s).
+  KOKKOS_INLINE_FUNCTION double factor(const double (&column)[kMaxEntries], double rate) const {
+    if (!(rate > 0.0)) return column[0];
+#if KOKKOS_VERSION >= 40000
+    const double x = Kokkos::log10(rate);
+#else
+    const double x = Kokkos::Experimental::log10(rate);
+#endif
+    if (x <= log10_rate[0]) return column[0];
+    for (int k = 1; k < count; ++k)
+      if (x < log10_rate[k]) {
+        const double t = (x - log10_rate[k - 1]) / (log10_rate[k] - log10_rate[k - 1]);
+        return column[k - 1] + t * (column[k] - column[k - 1]);
+      }
+    return column[count - 1];
+  }
+  KOKKOS_INLINE_FUNCTION double strength_factor(double rate) const {
+    return factor(strength, rate);
+  }
+  KOKKOS_INLINE_FUNCTION double fracture_energy_factor(double rate) const {
+    return factor(fracture_energy, rate);
+  }
+};
+
 struct BondLaw {
   double youngs_modulus_eff = 0;  // E in plane stress, E / (1 - nu^2) in plane strain (Pa)
   double yield_stress = 0;        // bilinear springs (Pa); 0 = elastic bonds
@@ -278,6 +328,7 @@ struct BondLaw {
   double fracture_energy = 0;     // G_f (J/m^2); 0 = brittle (the bond breaks at its strength)
   double crack_area_factor[2] = {0, 0};  // per BondKind (m^2 per (N/m) per m)
   double poisson_ratio_eff = 0;  // nu in plane stress, nu / (1 - nu) in plane strain (local_normal)
+  RateLaw rate;                  // dynamic increase factors; count 0 = rate independent
 
   KOKKOS_INLINE_FUNCTION SpringLaw springs() const { return {yield_stress, hardening}; }
   KOKKOS_INLINE_FUNCTION FaceStrength face() const {

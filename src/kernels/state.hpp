@@ -54,9 +54,12 @@ struct ScatterPlan {
 enum FixedDof : int { kFixX = 1, kFixY = 2 };
 
 struct Nodes {
-  View<double* [2]> x0;     // reference position (m)
-  View<double* [2]> x;      // current position (m)
-  View<double* [2]> v;      // velocity (m/s); full step between steps, half step inside one
+  View<double* [2]> x0;  // reference position (m)
+  View<double* [2]> x;   // current position (m)
+  View<double* [2]> v;   // velocity (m/s); full step between steps, half step inside one
+  // The half-step velocity averaged over about ten steps (filter_velocities, bond_forces.hpp):
+  // the bonds' strain rates for rate-dependent strength. Empty view without a rate_dependence.
+  View<double* [2]> v_filtered;
   View<double* [2]> f;      // internal + contact force (N), rebuilt every step
   View<double* [2]> f_ext;  // external force (N), rebuilt every step
   View<double*> mass;       // lumped mass (kg), constant
@@ -204,6 +207,9 @@ struct Bonds {
   View<double*> onset_separation;
   View<double*> final_separation;  // effective separation at which it breaks (m)
   View<int* [2]> cells;            // converted cells whose face (edge) or body (diagonal) it is; -1
+  // Strength factor w of each slot (kernels/heterogeneity.hpp): the bond reaches its strength at
+  // w sigma_t and w c. Drawn once at set-up; empty view when no material has a Weibull modulus.
+  View<double*> strength_scale;
   // Per slot b, built with the slots (build_lattice) from data that never change (not state):
   // kRunContinues where slot b + 1 continues a run of slot b (both ends one node on, each cell
   // side one cell on or none on both, the same kind, the cells all of one material), and
@@ -268,7 +274,10 @@ struct Elements {
   View<int*> cell_state;          // CellState of the last cell stress (compute_cell_stress)
   View<int*> cell_cracked;        // 1 once a bond of the cell broke or started to soften, for good
   View<double* [3]> cell_strain_offset;  // strain beyond the elastic part at conversion
-  int count = 0;                         // all elements of the mesh
+  // The smallest strength factor of each cell's bonds (Bonds::strength_scale), which the cell
+  // stress's bound uses; empty view with the bonds'.
+  View<double*> cell_strength_scale;
+  int count = 0;  // all elements of the mesh
   int active_count = 0;
   int qp_per_element = 1;  // 1 (reduced + hourglass control) or 4 (2x2 Gauss)
   // Per quadrature point.

@@ -285,6 +285,8 @@ const BadCase kBadCases[] = {
     {"support_diagonal.toml", 23, "boundary[0].direction", "a support pushes along x or y"},
     {"velocity_component_z.toml", 23, "boundary[0].component", "must be \"x\" or \"y\""},
     {"duplicate_boundary_name.toml", 27, "boundary['grip'].name", "duplicate boundary name 'grip'"},
+    {"weibull_below_one.toml", 12, "material['glass'].weibull_modulus", "at least 1"},
+    {"seed_fraction.toml", 4, "simulation.seed", "must be a whole number"},
 };
 
 INSTANTIATE_TEST_SUITE_P(CaseFiles, CaseBadFile, ::testing::ValuesIn(kBadCases),

@@ -220,6 +220,9 @@ void expect_bitwise_restart(const std::string& name, const std::string& sets) {
   // The checkpoint is U's state after step k: the end time was reached exactly, not rounded.
   EXPECT_EQ(attribute(c.id, "time"), r.t_k);
   EXPECT_EQ(attribute(c.id, "steps"), doubles(u.id, "/history/step")[r.k]);
+  if (sets.find("weibull_modulus") != std::string::npos) {
+    EXPECT_FALSE(doubles(c.id, "/strength/bonds").empty());
+  }
 
   // The scene exercises what a checkpoint must carry, on both sides of step k: conversions
   // (new discs and bonds), broken bonds and touching contact pairs.
@@ -264,6 +267,9 @@ TEST(Checkpoint, RestartReproducesTheUninterruptedRunBitwiseOnOneThread) {
   expect_bitwise_restart("bitwise_fe_projectile", "");
   // The same with a rigid projectile: rigid-body state (centre, rotation, velocities).
   expect_bitwise_restart("bitwise_rigid_projectile", "body.projectile.method=rigid");
+  // The same with Weibull bond strengths: the checkpoint carries the drawn factors (/strength).
+  expect_bitwise_restart("bitwise_weibull",
+                         "material.concrete.weibull_modulus=5 simulation.seed=3");
 }
 
 // The state does not depend on the thread count: every force sum into a node runs in a fixed

@@ -120,6 +120,42 @@ TEST(FaceStrength, OnTheMohrCoulombLine) {
   EXPECT_FALSE(tension_only.reaches(-2e6, 1e9));  // cohesion 0: no shear failure
 }
 
+// A scaled face (a Weibull factor, a dynamic increase factor) reaches at the scaled tensile
+// strength and on the line tau = w c - sigma tan(phi); scale 1 is the unscaled check. Exact.
+TEST(FaceStrength, ScaledStrengthScalesTensionAndCohesionNotFriction) {
+  const FaceStrength face = rock_face();
+  EXPECT_TRUE(face.reaches(3e6, 0.0, 1.5));
+  EXPECT_FALSE(face.reaches(std::nextafter(3e6, 0.0), 0.0, 1.5));
+  const double line = 1.5 * 8e6 + 0.5 * 4e6;  // sigma = -4 MPa
+  EXPECT_TRUE(face.reaches(-4e6, line, 1.5));
+  EXPECT_FALSE(face.reaches(-4e6, std::nextafter(line, 0.0), 1.5));
+  for (const double sigma : {-20e6, 0.0, 2e6})
+    for (const double tau : {0.0, 8e6, 20e6})
+      EXPECT_EQ(face.reaches(sigma, tau, 1.0), face.reaches(sigma, tau)) << sigma << " " << tau;
+}
+
+// The dynamic increase factor table: piecewise linear in log10 of the strain rate, held at the
+// end values outside it (and at the first for a rate of 0). Exact, to round-off.
+TEST(RateLaw, FactorIsPiecewiseLinearInTheLogOfTheRate) {
+  RateLaw law;
+  law.count = 3;
+  const double rates[3] = {1e-2, 1.0, 1e2}, strength[3] = {1.0, 2.0, 4.0};
+  for (int k = 0; k < 3; ++k) {
+    law.log10_rate[k] = std::log10(rates[k]);
+    law.strength[k] = strength[k];
+    law.fracture_energy[k] = 1.0 + k;
+  }
+  EXPECT_TRUE(law.active());
+  EXPECT_FALSE(RateLaw{}.active());
+  EXPECT_DOUBLE_EQ(law.strength_factor(0.0), 1.0);
+  EXPECT_DOUBLE_EQ(law.strength_factor(1e-5), 1.0);
+  EXPECT_NEAR(law.strength_factor(0.1), 1.5, 1e-14);
+  EXPECT_NEAR(law.strength_factor(1.0), 2.0, 1e-14);
+  EXPECT_NEAR(law.strength_factor(10.0), 3.0, 1e-14);
+  EXPECT_DOUBLE_EQ(law.strength_factor(1e6), 4.0);
+  EXPECT_NEAR(law.fracture_energy_factor(10.0), 2.5, 1e-14);
+}
+
 // The every-face bound is the check over all faces: where it says below, no face of the
 // stress reaches the strength (faces sampled every 0.1 degree); it says so for a stress well
 // inside the envelope, and not for one whose circle touches the cut-off or the line.
@@ -327,7 +363,7 @@ void run_laws_on_device(const BondLaw bond_law, const ContactLaw contact_law,
 namespace {
 
 TEST(LawsDevice, RunOnTheDefaultExecutionSpace) {
-  const BondLaw bond_law{30e9, 0.0, 0.0, 2e6, 8e6, 0.5, 100.0, {2e-9, 1e-9}};
+  const BondLaw bond_law{30e9, 0.0, 0.0, 2e6, 8e6, 0.5, 100.0, {2e-9, 1e-9}, 0.0, {}};
   View<double*> out("out", 16);
   run_laws_on_device(bond_law, ContactLaw{}, out);
   const auto h = Kokkos::create_mirror_view_and_copy(HostSpace(), out);

@@ -2,6 +2,7 @@
 // (docs/physics.md 1.2 calibration), and the energy balance through breakage.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -14,7 +15,8 @@ namespace {
 
 // An elastic lattice plate hit by a 3 us pulse then ringing freely for 20,000 steps: discs
 // and bonds have no damping at all, so the balance (translational + rotational kinetic, bond
-// energy, external work, central-difference term) must close to the 0.5%.
+// energy, external work, central-difference term) must close to 0.5% (an O(dt^2)
+// shadow-energy error, bounded, as for FE: EnergyBalance.*).
 TEST(LatticeEnergy, ElasticLatticeConservesEnergyOver20000Steps) {
   const double h = 1.875e-3;
   Case c = test::rectangle_case(16, 32, h, 232e9, 0.3, 7800.0, Formulation::plane_stress);
@@ -57,18 +59,41 @@ TEST(LatticeEnergy, StableAtTheFullGershgorinStep) {
 // A lattice block of brittle material pulled by a slowly ramped traction on its right edge
 // (left edge on rollers): it must fail when the applied stress reaches the tensile strength.
 // The ramp takes ~100 wave transits to reach sigma_t, so dynamic overshoot is ~1%; the
-// issue's tolerance is 5%.
+// tolerance is 5%, for the overshoot and the boundary cells' nonuniform stress.
 struct TensionRun {
   double failure_stress, worst_error, fracture;
   long broken;
+  double weakest = 1;  // the smallest applied stress over sigma_t at which a bond reaches its own
 };
 
-TensionRun run_tension(Formulation f, double nu) {
+// With weibull_modulus m > 0 the bonds draw strength factors w (unit mean): under uniaxial
+// tension sigma along x, a horizontal edge bond (face normal x) sees sigma_n = sigma and a
+// diagonal sigma / 2, a vertical edge none, so the first bond reaches its strength at
+// sigma = sigma_t min(min over horizontal edges of w, 2 min over diagonals of w).
+double weakest_bond(const Model& model) {
+  const auto scale = Kokkos::create_mirror_view_and_copy(HostSpace(), model.bonds.strength_scale);
+  const auto ends = Kokkos::create_mirror_view_and_copy(HostSpace(), model.bonds.nodes);
+  const auto kind = Kokkos::create_mirror_view_and_copy(HostSpace(), model.bonds.kind);
+  const auto x0 = Kokkos::create_mirror_view_and_copy(HostSpace(), model.nodes.x0);
+  double weakest = 1e300;
+  for (int b = 0; b < model.bonds.count; ++b) {
+    const double dy = x0(ends(b, 1), 1) - x0(ends(b, 0), 1);
+    if (kind(b) == kBondDiagonal)
+      weakest = std::min(weakest, 2.0 * scale(b));
+    else if (std::fabs(dy) < 1e-9)
+      weakest = std::min(weakest, scale(b));
+  }
+  return weakest;
+}
+
+TensionRun run_tension(Formulation f, double nu, double weibull_modulus = 0) {
   const double h = 1e-3, E = 92e9, rho = 2400.0, sigma_t = 2.3e6;
   const int nx = 20, ny = 10;
   Case c = test::rectangle_case(nx, ny, h, E, nu, rho, f);
   c.bodies[0].method = BodyMethod::de;
   c.materials[0].tensile_strength = sigma_t;
+  c.materials[0].weibull_modulus = weibull_modulus;
+  c.sim.seed = 11;
   const double c_wave = std::sqrt(E / rho);
   const double ramp = 100 * nx * h / c_wave * 2.0;  // time to reach 2 sigma_t
   test::add_pressure(c, test::segment(nx * h, 0, nx * h, ny * h), {0.0, ramp},
@@ -77,6 +102,7 @@ TensionRun run_tension(Formulation f, double nu) {
   c.sim.end_time = 0.75 * ramp;  // past failure (at ramp / 2), into fragment motion
   Simulation sim(c);
   TensionRun r{-1, 0, 0, 0};
+  if (weibull_modulus > 0) r.weakest = weakest_bond(sim.model());
   while (sim.time() < c.sim.end_time * (1 - 1e-12) && !sim.failed()) {
     sim.step();
     const HistoryRecord hr = sim.history();
@@ -105,10 +131,72 @@ TEST(LatticeFailure, UniaxialTensionFailsAtTensileStrength) {
     EXPECT_NEAR(r.failure_stress, 2.3e6, 0.05 * 2.3e6) << to_string(f);
     EXPECT_GT(r.broken, 0);
     EXPECT_GT(r.fracture, 0.0);
-    // The balance with fracture energy closes within the 1% through the breakage.
+    // The balance with fracture energy closes within 1% through the breakage (measured 1e-9).
     EXPECT_LT(r.worst_error, 0.01) << to_string(f);
     RecordProperty(std::string("failure_stress_") + to_string(f), std::to_string(r.failure_stress));
     RecordProperty(std::string("worst_error_") + to_string(f), std::to_string(r.worst_error));
+  }
+}
+
+// Weibull strengths (modulus 4 and 12, one seed): the block now fails when its weakest bond
+// reaches its own strength, sigma_t times the smallest factor that faces the load (weakest_bond),
+// within the same 5 % as the uniform block, not at sigma_t. Answer: exact (from the drawn
+// factors); the balance closes within 1 % as above.
+TEST(LatticeFailure, WeibullBlockFailsAtItsWeakestBondsStrength) {
+  for (double m : {4.0, 12.0}) {
+    const TensionRun r = run_tension(Formulation::plane_stress, 0.21, m);
+    ASSERT_LT(r.weakest, 0.95) << m;  // a weakest bond the test can tell from sigma_t
+    EXPECT_NEAR(r.failure_stress, r.weakest * 2.3e6, 0.05 * r.weakest * 2.3e6) << "m = " << m;
+    EXPECT_GT(r.broken, 0);
+    EXPECT_LT(r.worst_error, 0.01);
+    std::printf("m = %g: first bond broken at %.4g MPa, the weakest bond's strength %.4g MPa\n", m,
+                r.failure_stress / 1e6, r.weakest * 2.3);
+  }
+}
+
+// Rate dependence (RateLaw): a brittle lattice bar pulled apart at a constant strain rate by
+// velocity boundaries on both ends (after a ramp of 20 us, some ten wave transits) fails when
+// the stress on its ends, from the boundaries' reaction, reaches sigma_t times the table's
+// dynamic increase factor at that rate: 1.5, 2 and 2.5 at 0.1, 1 and 10/s (factors 1 and 3 at 0.01 and
+// 100/s, linear in log10 of the rate). Answer: exact (the table); tolerance 5 %, as for the
+// slow tension test (the bar rings about its mean stress after the ramp).
+double rate_failure_stress(double strain_rate) {
+  const double h = 1e-3, E = 50e9, rho = 2500.0, sigma_t = 10e6;
+  const int nx = 10, ny = 4;
+  const double L = nx * h, H = ny * h;
+  Case c = test::rectangle_case(nx, ny, h, E, 0.2, rho, Formulation::plane_stress);
+  c.bodies[0].method = BodyMethod::de;
+  c.materials[0].tensile_strength = sigma_t;
+  c.materials[0].rate_dependence = {{1e-2, 1e2}, {1.0, 3.0}, {1.0, 1.0}};
+  const double speed = 0.5 * strain_rate * L, ramp = 20e-6;
+  for (int side = 0; side < 2; ++side) {
+    Boundary b;
+    b.name = side ? "right" : "left";
+    b.type = Boundary::Type::velocity;
+    b.component = 0;
+    b.where.kind = NodeSelector::Kind::segment;
+    b.where.segment = test::segment(side * L, 0, side * L, H);
+    b.time = {0.0, ramp};
+    b.value = {0.0, side ? speed : -speed};
+    c.boundaries.push_back(b);
+  }
+  c.sim.end_time = ramp + 4.0 * sigma_t / (E * strain_rate);
+  Simulation sim(c);
+  while (sim.time() < c.sim.end_time * (1 - 1e-12) && !sim.failed()) {
+    sim.step();
+    if (sim.history().count.broken_bonds > 0)
+      return sim.boundary_records()[1].fx / (H * c.sim.thickness);
+  }
+  ADD_FAILURE() << "no bond broke at " << strain_rate << "/s";
+  return 0;
+}
+
+TEST(LatticeFailure, RateDependentStrengthFollowsTheStrainRate) {
+  for (auto [rate, factor] : {std::pair{0.1, 1.5}, std::pair{1.0, 2.0}, std::pair{10.0, 2.5}}) {
+    const double stress = rate_failure_stress(rate);
+    EXPECT_NEAR(stress, factor * 10e6, 0.05 * factor * 10e6) << rate << "/s";
+    std::printf("%g/s: failure stress %.4g MPa, expected %.4g MPa\n", rate, stress / 1e6,
+                factor * 10.0);
   }
 }
 
@@ -194,8 +282,8 @@ TEST(LatticeFailure, CohesiveCrackDissipatesTheFractureEnergyAtAnyCellSize) {
 // Shear test: a lattice block of a Mohr-Coulomb material under a confining pressure p (ramped
 // first) and then a slowly ramped pure shear stress tau (tractions on all four faces). The faces
 // of the orthogonal bonds carry (sigma_n, tau) = (-p, tau), so the block must fail on the
-// Mohr-Coulomb envelope tau = c + p tan(phi) (docs/physics.md 1.2). Ramps of ~100 wave transits keep
-// the dynamic overshoot near 1%; the tolerance is 5%.
+// Mohr-Coulomb envelope tau = c + p tan(phi) (docs/physics.md 1.2). Ramps of ~100 wave transits
+// keep the dynamic overshoot near 1%; the tolerance is 5%, as in tension.
 double run_shear(double p) {
   const double h = 1e-3, E = 30e9, nu = 0.2, rho = 2400.0;
   const double c_coh = 5e6, phi = 30.0 * M_PI / 180.0;
@@ -250,7 +338,7 @@ namespace {
 // Two lattice blocks collide head-on through disc contact (spring-dashpot with damping ratio
 // 0.1 and friction): momentum is conserved to round-off (no external force), the blocks separate
 // afterwards, and the energy balance including the contact's dissipated energy closes within
-// the 1%.
+// 1% (the contact work is trapezoidal, O(dt^2)).
 TEST(LatticeContact, BlocksCollideAndBalanceCloses) {
   const double h = 1e-3;
   Case c = test::rectangle_case(6, 6, h, 30e9, 0.2, 2400.0, Formulation::plane_stress);
