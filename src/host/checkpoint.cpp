@@ -131,7 +131,7 @@ struct CheckpointIO {
     if (s.model_.bonds.strength_scale.extent(0) > 0) {
       const Handle strength = kWrite.create_group(file, "strength");
       write_view(strength.get(), "bonds", s.model_.bonds.strength_scale);
-      write_view(strength.get(), "cells", s.model_.elements.cell_strength_scale);
+      write_view(strength.get(), "cells", s.model_.elements.cell_inverse_strength_scale);
     }
     std::vector<double> rigid;
     for (const RigidBody& b : s.model_.rigid)
@@ -158,7 +158,7 @@ struct CheckpointIO {
     if (s.model_.bonds.strength_scale.extent(0) > 0) {
       const Handle strength = kRead.open_group(file, "strength");
       read_view(strength.get(), "bonds", s.model_.bonds.strength_scale);
-      read_view(strength.get(), "cells", s.model_.elements.cell_strength_scale);
+      read_view(strength.get(), "cells", s.model_.elements.cell_inverse_strength_scale);
     }
     const Handle scalar_group = kRead.open_group(file, "scalars");
     ListCounts lists;

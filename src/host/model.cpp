@@ -278,8 +278,8 @@ void draw_heterogeneity(Model& model) {
   Bonds& bonds = model.bonds;
   if (!heterogeneous || bonds.count == 0) return;
   bonds.strength_scale = View<double*>("fracta::bond_strength_scale", bonds.count);
-  model.elements.cell_strength_scale =
-      View<double*>("fracta::cell_strength_scale", model.elements.count);
+  model.elements.cell_inverse_strength_scale =
+      View<double*>("fracta::cell_inverse_strength_scale", model.elements.count);
   draw_strength_scales(bonds, model.elements, model.element_bonds,
                        to_device_1d<StrengthWeibull>("strength_weibull", weibull), c.sim.seed);
   double lowest = 0, highest = 0;

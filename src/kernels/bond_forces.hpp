@@ -58,7 +58,7 @@ struct CellStress {
   template <class T>
   KOKKOS_INLINE_FUNCTION auto stress_of(const T (&x0)[4], const T (&y0)[4], const T (&x)[4],
                                         const T (&y)[4], const T (&offset)[3], int material,
-                                        const T& strength_scale, T (&stress)[3]) const {
+                                        const T& inverse_strength_scale, T (&stress)[3]) const {
     T ux[4], uy[4], green[3];
     for (int a = 0; a < 4; ++a) {
       ux[a] = x[a] - x0[a];
@@ -79,9 +79,9 @@ struct CellStress {
     if (!bound_faces) return !all_lanes<T>();
     T centre = 0.5 * (sxx + syy);
     T radius = sqrt_(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
-    if (elements.cell_strength_scale.extent(0) > 0) {  // below w sigma_t: sigma / w below sigma_t
-      centre = centre / strength_scale;
-      radius = radius / strength_scale;
+    if (elements.cell_inverse_strength_scale.extent(0) > 0) {  // sigma / w below sigma_t
+      centre = centre * inverse_strength_scale;
+      radius = radius * inverse_strength_scale;
     }
     return laws(material).face().below_on_every_face(centre, radius);
   }
@@ -105,8 +105,9 @@ struct CellStress {
     const double offset[3] = {elements.cell_strain_offset(e, 0), elements.cell_strain_offset(e, 1),
                               elements.cell_strain_offset(e, 2)};
     double stress[3];
-    const double scale =
-        elements.cell_strength_scale.extent(0) > 0 ? elements.cell_strength_scale(e) : 1.0;
+    const double scale = elements.cell_inverse_strength_scale.extent(0) > 0
+                             ? elements.cell_inverse_strength_scale(e)
+                             : 1.0;
     const bool below = stress_of(x0, y0, x, y, offset, elements.material(e), scale, stress);
     for (int k = 0; k < 3; ++k) elements.cell_stress(e, k) = stress[k];
     elements.cell_state(e) = state_of(e, below);
@@ -124,8 +125,8 @@ struct CellStress {
     int cell[8];
     for (int l = 0; l < 8; ++l) cell[l] = e0 + l;
     const Double8 scale =
-        elements.cell_strength_scale.extent(0) > 0
-            ? load_lanes<Double8, 8>(elements.cell_strength_scale.data(), cell, true)
+        elements.cell_inverse_strength_scale.extent(0) > 0
+            ? load_lanes<Double8, 8>(elements.cell_inverse_strength_scale.data(), cell, true)
             : splat<Double8>(1.0);
     const Mask8 below = stress_of(x0, y0, x, y, offset, elements.material(e0), scale, stress);
     store_triples(&elements.cell_stress(e0, 0), stress[0], stress[1], stress[2]);

@@ -55,8 +55,8 @@ struct StrengthWeibull {
 };
 
 // Bonds::strength_scale for every slot, with the law of the material of the slot's first cell
-// (both cells of a slot belong to one body), and Elements::cell_strength_scale, the smallest
-// factor of each cell's slots (the cell stress's bound: compute_cell_stress).
+// (both cells of a slot belong to one body), and Elements::cell_inverse_strength_scale, 1 / the
+// smallest factor of each cell's slots (the cell stress's bound: compute_cell_stress).
 inline void draw_strength_scales(const Bonds& bonds, const Elements& elements,
                                  const View<int* [6]>& element_bonds,
                                  const View<const StrengthWeibull*>& weibull, std::uint64_t seed) {
@@ -69,7 +69,7 @@ inline void draw_strength_scales(const Bonds& bonds, const Elements& elements,
             law.factor(uniform_draw(seed, bond_key(bonds.nodes(b, 0), bonds.nodes(b, 1))));
       });
   Kokkos::parallel_for(
-      "fracta::cell_strength_scales", Kokkos::RangePolicy<ExecSpace>(0, elements.count),
+      "fracta::cell_inverse_strength_scales", Kokkos::RangePolicy<ExecSpace>(0, elements.count),
       KOKKOS_LAMBDA(const int e) {
         double smallest = 1.0;
         bool any = false;
@@ -79,7 +79,7 @@ inline void draw_strength_scales(const Bonds& bonds, const Elements& elements,
           smallest = any ? min_(smallest, bonds.strength_scale(b)) : bonds.strength_scale(b);
           any = true;
         }
-        elements.cell_strength_scale(e) = smallest;
+        elements.cell_inverse_strength_scale(e) = 1.0 / smallest;
       });
 }
 

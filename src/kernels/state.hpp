@@ -274,9 +274,10 @@ struct Elements {
   View<int*> cell_state;          // CellState of the last cell stress (compute_cell_stress)
   View<int*> cell_cracked;        // 1 once a bond of the cell broke or started to soften, for good
   View<double* [3]> cell_strain_offset;  // strain beyond the elastic part at conversion
-  // The smallest strength factor of each cell's bonds (Bonds::strength_scale), which the cell
-  // stress's bound uses; empty view with the bonds'.
-  View<double*> cell_strength_scale;
+  // 1 / the smallest strength factor of each cell's bonds (Bonds::strength_scale), by which the
+  // cell stress's bound scales the stress (a product, not a division, every step); empty view
+  // with the bonds'.
+  View<double*> cell_inverse_strength_scale;
   int count = 0;  // all elements of the mesh
   int active_count = 0;
   int qp_per_element = 1;  // 1 (reduced + hourglass control) or 4 (2x2 Gauss)

@@ -83,14 +83,14 @@ auto on_host(const V& v) {
 
 // The model's factors, drawn by a parallel kernel, equal the serial recomputation from the seed
 // and each slot's end nodes to the bit (so no thread count or schedule can change them), and
-// each cell's bound is the smallest factor of its six slots. Answer: exact.
+// each cell's bound is 1 / the smallest factor of its six slots. Answer: exact.
 TEST(StrengthWeibull, ModelFactorsAreTheSeedsDrawsOfEachBondsEnds) {
   Simulation sim(weibull_block(6.0, 7));
   const Model& model = sim.model();
   ASSERT_EQ(model.bonds.strength_scale.extent(0), static_cast<size_t>(model.bonds.count));
   const auto scale = on_host(model.bonds.strength_scale);
   const auto ends = on_host(model.bonds.nodes);
-  const auto cell_scale = on_host(model.elements.cell_strength_scale);
+  const auto cell_scale = on_host(model.elements.cell_inverse_strength_scale);
   const auto slots = on_host(model.element_bonds);
   const StrengthWeibull law = weibull_of(6.0);
   for (int b = 0; b < model.bonds.count; ++b) {
@@ -100,7 +100,7 @@ TEST(StrengthWeibull, ModelFactorsAreTheSeedsDrawsOfEachBondsEnds) {
   for (int e = 0; e < model.elements.count; ++e) {
     double smallest = 1e300;
     for (int a = 0; a < 6; ++a) smallest = std::min(smallest, scale(slots(e, a)));
-    EXPECT_EQ(cell_scale(e), smallest) << "cell " << e;
+    EXPECT_EQ(cell_scale(e), 1.0 / smallest) << "cell " << e;
   }
   // Another model of the same seed draws the same; another seed draws others.
   Simulation same(weibull_block(6.0, 7)), other(weibull_block(6.0, 8));
@@ -115,7 +115,7 @@ TEST(StrengthWeibull, ModelFactorsAreTheSeedsDrawsOfEachBondsEnds) {
   // A uniform material draws nothing: the bond kernel then runs as without heterogeneity.
   Simulation uniform(weibull_block(0.0, 7));
   EXPECT_EQ(uniform.model().bonds.strength_scale.extent(0), 0u);
-  EXPECT_EQ(uniform.model().elements.cell_strength_scale.extent(0), 0u);
+  EXPECT_EQ(uniform.model().elements.cell_inverse_strength_scale.extent(0), 0u);
 }
 
 }  // namespace
