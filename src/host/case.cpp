@@ -674,8 +674,9 @@ Material::RateTable read_rate_dependence(const Reader& r) {
   if (n < 1 || n > Material::RateTable::kMaxEntries)
     r.fail("strain_rate",
            "must have 1 to " + std::to_string(Material::RateTable::kMaxEntries) + " entries");
-  for (const char* key : {"strength", "fracture_energy"}) {
-    const std::vector<double>& f = std::string(key) == "strength" ? t.strength : t.fracture_energy;
+  for (const auto& [key, f] :
+       {std::pair<const char*, const std::vector<double>&>{"strength", t.strength},
+        {"fracture_energy", t.fracture_energy}}) {
     if (f.size() != n)
       r.fail(key, "has " + std::to_string(f.size()) + " entries but 'strain_rate' has " +
                       std::to_string(n));

@@ -423,6 +423,19 @@ struct BondForces {
   // bond at sigma_t and a direct shear test at tau = c + sigma tan(phi): a single bond's fn / S
   // cannot see the stress along its face (the Poisson coupling) and would miss the envelope under
   // confinement. With no intact cell left (a fragment's edge): the bond's own fn / S and |fs| / S.
+  // Whether the lanes' strengths are scaled: by Weibull factors (Bonds::strength_scale) or by a
+  // dynamic increase factor (RateLaw). Unscaled, the check keeps the arithmetic of a uniform,
+  // rate-independent lattice.
+  KOKKOS_INLINE_FUNCTION bool scaled(const double rate_factor) const {
+    return bonds.strength_scale.extent(0) > 0 || rate_factor != 1.0;
+  }
+  // The lanes' Weibull factors (1 without them).
+  template <class T, int L>
+  KOKKOS_FORCEINLINE_FUNCTION T strength_scale(const BondLanes<L>& s) const {
+    return bonds.strength_scale.extent(0) > 0 ? column<T>(bonds.strength_scale, s.b, true)
+                                              : splat<T>(1.0);
+  }
+
   // The strengths are scaled by each bond's Weibull factor (Bonds::strength_scale) and by
   // rate_factor (the bond-by-bond path's dynamic increase factor, RateLaw).
   template <class T, int L>
@@ -444,10 +457,8 @@ struct BondForces {
       sigma_n = cells > 0.0 ? sigma_n : (area > 0.0 ? fn / area : splat<T>(0.0));
       tau = cells > 0.0 ? tau : (area > 0.0 ? fabs_(fs) / area : splat<T>(0.0));
     }
-    const bool weibull = bonds.strength_scale.extent(0) > 0;
-    if (!weibull && rate_factor == 1.0) return face.reaches(sigma_n, tau);
-    const T scale = weibull ? column<T>(bonds.strength_scale, s.b, true) : splat<T>(1.0);
-    return face.reaches(sigma_n, tau, scale * rate_factor);
+    if (!scaled(rate_factor)) return face.reaches(sigma_n, tau);
+    return face.reaches(sigma_n, tau, strength_scale<T>(s) * rate_factor);
   }
 
   // Next to a crack (one of bond b's cells cracked, `cells` > 0 intact ones left): the intact
@@ -471,9 +482,8 @@ struct BondForces {
     const double sigma_tt = (s3[0] + s3[1]) * mean - sigma_n;
     const double local =
         FaceStrength::local_normal(sigma_n, sigma_tt, fn / area, law.poisson_ratio_eff);
-    const bool weibull = bonds.strength_scale.extent(0) > 0;
-    if (!weibull && rate_factor == 1.0) return law.face().reaches(local, tau);
-    return law.face().reaches(local, tau, (weibull ? bonds.strength_scale(b) : 1.0) * rate_factor);
+    if (!scaled(rate_factor)) return law.face().reaches(local, tau);
+    return law.face().reaches(local, tau, strength_scale<double>(s) * rate_factor);
   }
 
   // The magnitude of bond b's normal strain rate |(v_j - v_i) . n| / L0 (1/s), with the
@@ -797,12 +807,20 @@ struct BondForces {
     if (onset == 0.0) {
       double s3[3], cells;
       intact_cells(b, s3, cells);
-      const double rate = law.rate.active() ? normal_strain_rate(s, g, v.length0) : 0.0;
-      const double rate_factor = law.rate.active() ? law.rate.strength_factor(rate) : 1.0;
-      if (reaches_strength(law.face(), s, s3, cells, v.fn, v.fs, rate_factor) ||
-          (beside_crack(b) &&
-           reaches_strength_beside_crack(law, s, s3, cells, v.fn, rate_factor))) {
-        if (law.rate.active()) softening.fracture_energy *= law.rate.fracture_energy_factor(rate);
+      const auto reaches = [&](const double rate_factor) {
+        return reaches_strength(law.face(), s, s3, cells, v.fn, v.fs, rate_factor) ||
+               (beside_crack(b) &&
+                reaches_strength_beside_crack(law, s, s3, cells, v.fn, rate_factor));
+      };
+      // The static strength first: the dynamic increase factor is >= 1, so only a bond that
+      // reaches it needs its strain rate and the factor (a logarithm), not every bond each step.
+      bool reached = reaches(1.0);
+      if (reached && law.rate.active()) {
+        const double rate = normal_strain_rate(s, g, v.length0);
+        reached = reaches(law.rate.strength_factor(rate));
+        softening.fracture_energy *= law.rate.fracture_energy_factor(rate);
+      }
+      if (reached) {
         onset = start_softening(b, softening, v);
         breaks = onset == 0.0;
       }
