@@ -1,0 +1,13 @@
+// CUDA check unit for src/kernels/heterogeneity.hpp: the counter-based draws and the Weibull
+// bond-strength factors of every slot and cell.
+#include "kernels/heterogeneity.hpp"
+
+namespace fracta::cuda_check {
+
+void heterogeneity_kernels(const Bonds& bonds, const Elements& elements,
+                           const View<int* [6]>& element_bonds,
+                           const View<const StrengthWeibull*>& weibull) {
+  draw_strength_scales(bonds, elements, element_bonds, weibull, 1);
+}
+
+}  // namespace fracta::cuda_check
