@@ -6,7 +6,7 @@ namespace fracta::cuda_check {
 
 void heterogeneity_kernels(const Bonds& bonds, const Elements& elements,
                            const View<int* [6]>& element_bonds,
-                           const View<const StrengthWeibull*>& weibull) {
+                           const View<const StrengthDistribution*>& weibull) {
   draw_strength_scales(bonds, elements, element_bonds, weibull, 1);
 }
 

@@ -642,6 +642,7 @@ const KeyList kMaterialCommonKeys = {"name",
                                      "tensile_strength",
                                      "conversion_strain",
                                      "weibull_modulus",
+                                     "strength_spread",
                                      "rate_dependence"};
 const std::map<MaterialModel, KeyList> kMaterialModelKeys = {
     {MaterialModel::elastic, {"fracture_energy"}},
@@ -731,6 +732,11 @@ Material read_material(const Reader& r, Names& names) {
     r.fail("weibull_modulus", "must be 0 (uniform strength) or at least 1");
   if (m.weibull_modulus > 0.0 && !(m.tensile_strength > 0.0 || m.cohesion > 0.0))
     r.fail("weibull_modulus", "needs a tensile_strength or cohesion > 0 (it scales them)");
+  m.strength_spread = r.number("strength_spread", Range::ge(0).lt(1), 0.0);
+  if (m.strength_spread > 0.0 && m.weibull_modulus > 0.0)
+    r.fail("strength_spread", "give either weibull_modulus or strength_spread, not both");
+  if (m.strength_spread > 0.0 && !(m.tensile_strength > 0.0 || m.cohesion > 0.0))
+    r.fail("strength_spread", "needs a tensile_strength or cohesion > 0 (it scales them)");
   if (const auto rate = r.optional_table("rate_dependence")) {
     m.rate_dependence = read_rate_dependence(*rate);
     if (!(m.tensile_strength > 0.0 || m.cohesion > 0.0))
@@ -760,8 +766,8 @@ Region read_region(const Reader& r) {
 }
 
 Body read_body(const Reader& r, Names& names, const Names& materials) {
-  r.allow_only(
-      {"name", "material", "method", "cell_size", "shape", "cut", "region", "initial_velocity"});
+  r.allow_only({"name", "material", "method", "cell_size", "shape", "cut", "region",
+                "initial_velocity", "initial_velocity_gradient", "initial_velocity_origin"});
   Body b;
   b.pos = r.pos();
   b.name = read_name(r);
@@ -774,6 +780,22 @@ Body read_body(const Reader& r, Names& names, const Names& materials) {
   for (const Reader& c : r.entries("cut")) b.cuts.push_back(read_shape(c));
   for (const Reader& g : r.entries("region")) b.regions.push_back(read_region(g));
   b.initial_velocity = r.vec2("initial_velocity", b.initial_velocity);
+  if (r.has("initial_velocity_gradient")) {
+    const std::string key = r.key("initial_velocity_gradient");
+    const toml::array& rows = to_array(r.source(), r.required("initial_velocity_gradient"), key);
+    if (rows.size() != 2)
+      r.fail("initial_velocity_gradient",
+             "expected [[dvx/dx, dvx/dy], [dvy/dx, dvy/dy]] (2 rows), got " +
+                 std::to_string(rows.size()));
+    for (size_t i = 0; i < 2; ++i)
+      b.initial_velocity_gradient[i] =
+          to_vec2(r.source(), rows[i], key + "[" + std::to_string(i) + "]");
+  }
+  b.initial_velocity_origin = r.vec2("initial_velocity_origin", b.initial_velocity_origin);
+  const auto& L = b.initial_velocity_gradient;
+  if (b.method == BodyMethod::rigid &&
+      (L[0][0] != 0 || L[0][1] != 0 || L[1][0] != 0 || L[1][1] != 0))
+    r.fail("initial_velocity_gradient", "does not apply to a rigid body (it keeps its shape)");
   return b;
 }
 

@@ -70,6 +70,7 @@ struct Material {
   double conversion_strain = 0;  // equivalent plastic strain that converts an element
   double fracture_energy = 0;    // J/m^2, cohesive bond softening; 0 = brittle bonds
   double weibull_modulus = 0;    // m of the bonds' strength factors (unit mean); 0 = uniform
+  double strength_spread = 0;    // or factors uniform on [1 - spread, 1 + spread]
   // Dynamic increase factors of the bond strength and fracture energy against the bond's strain
   // rate (1/s, increasing); empty = rate independent.
   struct RateTable {
@@ -101,6 +102,9 @@ struct Body {
   std::vector<Shape> cuts;      // removed from the shape (notches, holes)
   std::vector<Region> regions;  // parts given another method
   Vec2 initial_velocity{0, 0};  // m/s
+  // v(x) = initial_velocity + L (x - initial_velocity_origin): L's rows (1/s), origin (m).
+  std::array<Vec2, 2> initial_velocity_gradient{};
+  Vec2 initial_velocity_origin{0, 0};
   SourcePos pos;
 };
 

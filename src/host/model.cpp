@@ -228,6 +228,33 @@ void build_rigid_bodies(Model& model) {
   if (!model.rigid.empty()) model.rigid_offset = to_device_rows("rigid_offset", offset);
 }
 
+// A body's initial velocity at x (m/s): v0 + L (x - x0), the uniform part plus the gradient's
+// (a linear field: a translation, a rigid rotation, a uniform expansion or any mix).
+Vec2 initial_velocity_at(const Body& b, const Vec2& x) {
+  const auto& L = b.initial_velocity_gradient;
+  const double dx = x[0] - b.initial_velocity_origin[0], dy = x[1] - b.initial_velocity_origin[1];
+  return {b.initial_velocity[0] + L[0][0] * dx + L[0][1] * dy,
+          b.initial_velocity[1] + L[1][0] * dx + L[1][1] * dy};
+}
+
+// The discs of set-up `de` cells spin with their body's initial velocity field: the rotation
+// rate (dvy/dx - dvx/dy) / 2 of the gradient, so a rigidly rotating lattice starts unstrained.
+void set_initial_spins(Model& model) {
+  const Case& c = model.scene;
+  const bool any = std::any_of(c.bodies.begin(), c.bodies.end(), [](const Body& b) {
+    return b.initial_velocity_gradient[1][0] != b.initial_velocity_gradient[0][1];
+  });
+  if (!any || model.nodes.particle.extent(0) == 0) return;
+  auto particle = Kokkos::create_mirror_view_and_copy(HostSpace(), model.nodes.particle);
+  auto spin = Kokkos::create_mirror_view_and_copy(HostSpace(), model.nodes.spin);
+  for (int n = 0; n < model.nodes.count; ++n) {
+    if (!particle(n)) continue;
+    const auto& L = c.bodies[model.mesh.node_body[n]].initial_velocity_gradient;
+    spin(n) = 0.5 * (L[1][0] - L[0][1]);
+  }
+  Kokkos::deep_copy(model.nodes.spin, spin);
+}
+
 bool convertible(BodyMethod m) {
   return m == BodyMethod::de || m == BodyMethod::adaptive;
 }
@@ -263,16 +290,21 @@ bool needs_particles(const Case& c) {
   return false;
 }
 
-// Weibull strength factors of the bond slots (kernels/heterogeneity.hpp), when a material asks
-// for them, and a note of their range for check and run.
+// Strength factors of the bond slots (kernels/heterogeneity.hpp: Weibull or uniform), when a
+// material asks for them, and a note of their range for check and run.
 void draw_heterogeneity(Model& model) {
   const Case& c = model.scene;
-  std::vector<StrengthWeibull> weibull(c.materials.size());
+  std::vector<StrengthDistribution> weibull(c.materials.size());
   bool heterogeneous = false;
   for (size_t mi = 0; mi < c.materials.size(); ++mi) {
     const double m = c.materials[mi].weibull_modulus;
-    if (!(m > 0.0)) continue;
-    weibull[mi] = {m, 1.0 / std::tgamma(1.0 + 1.0 / m)};
+    const double spread = c.materials[mi].strength_spread;
+    if (m > 0.0)
+      weibull[mi] = {m, 1.0 / std::tgamma(1.0 + 1.0 / m), 0.0};
+    else if (spread > 0.0)
+      weibull[mi] = {0.0, 1.0, spread};
+    else
+      continue;
     heterogeneous = true;
   }
   Bonds& bonds = model.bonds;
@@ -281,7 +313,7 @@ void draw_heterogeneity(Model& model) {
   model.elements.cell_inverse_strength_scale =
       View<double*>("fracta::cell_inverse_strength_scale", model.elements.count);
   draw_strength_scales(bonds, model.elements, model.element_bonds,
-                       to_device_1d<StrengthWeibull>("strength_weibull", weibull), c.sim.seed);
+                       to_device_1d<StrengthDistribution>("strength_weibull", weibull), c.sim.seed);
   double lowest = 0, highest = 0;
   const View<double*> scale = bonds.strength_scale;
   Kokkos::parallel_reduce(
@@ -293,7 +325,7 @@ void draw_heterogeneity(Model& model) {
       Kokkos::Min<double>(lowest), Kokkos::Max<double>(highest));
   char note[200];
   std::snprintf(note, sizeof note,
-                "Weibull bond strengths, seed %llu: factors %.3g to %.3g of the strength over %d "
+                "Random bond strengths, seed %llu: factors %.3g to %.3g of the strength over %d "
                 "bond slots",
                 static_cast<unsigned long long>(c.sim.seed), lowest, highest, bonds.count);
   model.strength_notes.push_back(note);
@@ -653,7 +685,7 @@ Model build_model(const Case& c) {
     for (int n = 0; n < nn; ++n) {
       x(n, 0) = m.position[n][0];
       x(n, 1) = m.position[n][1];
-      const Vec2& v0 = c.bodies[m.node_body[n]].initial_velocity;
+      const Vec2 v0 = initial_velocity_at(c.bodies[m.node_body[n]], m.position[n]);
       v(n, 0) = v0[0];
       v(n, 1) = v0[1];
     }
@@ -775,6 +807,7 @@ Model build_model(const Case& c) {
   // The lattice (bond slots of convertible bodies, disc views, contact) is built when a body can
   // hold discs or when several bodies can touch; a single FE body needs none of it.
   if (needs_particles(c) || c.bodies.size() > 1) build_lattice(model, converted);
+  set_initial_spins(model);
   // The filtered velocities of rate-dependent bonds (filter_velocities), from the initial ones.
   const bool rate_dependent =
       std::any_of(c.materials.begin(), c.materials.end(),

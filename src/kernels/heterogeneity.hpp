@@ -5,7 +5,8 @@
 //   P(w' <= w) = 1 - exp(-(w Gamma(1 + 1/m))^m),   w = (-ln U)^(1/m) / Gamma(1 + 1/m),
 // with U uniform on (0, 1) from a counter-based hash of (seed, the slot's end nodes): a draw
 // depends on the seed and on which two nodes the bond joins, not on the thread count, the slot
-// order or the other draws, so a run repeats bit for bit from its seed. m = 0: w = 1.
+// order or the other draws, so a run repeats bit for bit from its seed. m = 0: w = 1, or, with a
+// strength spread d, w = 1 + d (2U - 1), uniform on [1 - d, 1 + d].
 #pragma once
 #include <cstdint>
 
@@ -37,20 +38,24 @@ KOKKOS_INLINE_FUNCTION std::uint64_t bond_key(int i, int j) {
   return (hi << 32) | lo;
 }
 
-// The Weibull law of one material's bond strengths: modulus m (0 = uniform) and
-// 1 / Gamma(1 + 1/m), which makes the mean factor 1.
-struct StrengthWeibull {
-  double modulus = 0;
+// The law of one material's bond strength factors (unit mean): Weibull of modulus m (above), or
+// uniform on [1 - spread, 1 + spread] (the scatter of the cohesive strengths in Zhou, Molinari &
+// Ramesh's fragmentation studies), or none (factor 1).
+struct StrengthDistribution {
+  double modulus = 0;       // Weibull m; 0: not Weibull
   double inverse_mean = 1;  // 1 / Gamma(1 + 1/m), computed on the host
+  double spread = 0;        // half-width of the uniform law (relative); 0: none
 
   KOKKOS_INLINE_FUNCTION double factor(double uniform) const {
-    if (!(modulus > 0.0)) return 1.0;
+    if (modulus > 0.0) {
 #if KOKKOS_VERSION >= 40000
-    return Kokkos::pow(-Kokkos::log(uniform), 1.0 / modulus) * inverse_mean;
+      return Kokkos::pow(-Kokkos::log(uniform), 1.0 / modulus) * inverse_mean;
 #else
-    return Kokkos::Experimental::pow(-Kokkos::Experimental::log(uniform), 1.0 / modulus) *
-           inverse_mean;
+      return Kokkos::Experimental::pow(-Kokkos::Experimental::log(uniform), 1.0 / modulus) *
+             inverse_mean;
 #endif
+    }
+    return 1.0 + spread * (2.0 * uniform - 1.0);
   }
 };
 
@@ -59,12 +64,13 @@ struct StrengthWeibull {
 // smallest factor of each cell's slots (the cell stress's bound: compute_cell_stress).
 inline void draw_strength_scales(const Bonds& bonds, const Elements& elements,
                                  const View<int* [6]>& element_bonds,
-                                 const View<const StrengthWeibull*>& weibull, std::uint64_t seed) {
+                                 const View<const StrengthDistribution*>& weibull,
+                                 std::uint64_t seed) {
   Kokkos::parallel_for(
       "fracta::draw_strength_scales", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
       KOKKOS_LAMBDA(const int b) {
         const int cell = bonds.cells(b, 0) >= 0 ? bonds.cells(b, 0) : bonds.cells(b, 1);
-        const StrengthWeibull law = weibull(elements.material(cell));
+        const StrengthDistribution law = weibull(elements.material(cell));
         bonds.strength_scale(b) =
             law.factor(uniform_draw(seed, bond_key(bonds.nodes(b, 0), bonds.nodes(b, 1))));
       });

@@ -287,6 +287,9 @@ const BadCase kBadCases[] = {
     {"duplicate_boundary_name.toml", 27, "boundary['grip'].name", "duplicate boundary name 'grip'"},
     {"weibull_below_one.toml", 12, "material['glass'].weibull_modulus", "at least 1"},
     {"seed_fraction.toml", 4, "simulation.seed", "must be a whole number"},
+    {"spread_and_weibull.toml", 13, "material['glass'].strength_spread", "not both"},
+    {"velocity_gradient_rigid.toml", 18, "body['ball'].initial_velocity_gradient", "rigid body"},
+    {"velocity_gradient_one_row.toml", 17, "body['plate'].initial_velocity_gradient", "2 rows"},
 };
 
 INSTANTIATE_TEST_SUITE_P(CaseFiles, CaseBadFile, ::testing::ValuesIn(kBadCases),

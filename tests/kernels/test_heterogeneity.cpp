@@ -1,6 +1,7 @@
-// Weibull bond strengths (kernels/heterogeneity.hpp): the draws follow the Weibull law of unit
-// mean (exact distribution, tested statistically), and a model's factors are a function of the
-// seed and the bond's end nodes alone (the same bits on any thread count, from any slot order).
+// Random bond strengths (kernels/heterogeneity.hpp): the draws follow the Weibull law of unit
+// mean, or the uniform law of a strength spread (exact distributions, tested statistically), and a
+// model's factors are a function of the seed and the bond's end nodes alone (the same bits on any
+// thread count, from any slot order).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,12 +16,12 @@
 namespace fracta {
 namespace {
 
-StrengthWeibull weibull_of(double m) {
+StrengthDistribution weibull_of(double m) {
   return {m, 1.0 / std::tgamma(1.0 + 1.0 / m)};
 }
 
 std::vector<double> draws(double m, std::uint64_t seed, int count) {
-  const StrengthWeibull law = weibull_of(m);
+  const StrengthDistribution law = weibull_of(m);
   std::vector<double> w(count);
   for (int k = 0; k < count; ++k) w[k] = law.factor(uniform_draw(seed, bond_key(k, k + 1)));
   return w;
@@ -47,6 +48,26 @@ TEST(StrengthWeibull, DrawsFollowTheWeibullLawOfUnitMean) {
     EXPECT_NEAR(mean, 1.0, 5.0 * sd / std::sqrt(double(n))) << "m = " << m;
     EXPECT_GT(w.front(), 0.0);
     EXPECT_TRUE(std::isfinite(w.back()));
+  }
+}
+
+// The uniform law on [1 - d, 1 + d]: Kolmogorov-Smirnov against F(w) = (w - 1 + d) / (2 d), as
+// above, and every draw inside the interval. Answer: exact; tolerance: statistical.
+TEST(StrengthUniform, DrawsFollowTheUniformLawOfTheSpread) {
+  const int n = 100000;
+  for (double d : {0.0033, 0.1, 0.5}) {
+    const StrengthDistribution law{0.0, 1.0, d};
+    std::vector<double> w(n);
+    for (int k = 0; k < n; ++k) w[k] = law.factor(uniform_draw(99, bond_key(k, k + 1)));
+    std::sort(w.begin(), w.end());
+    double ks = 0;
+    for (int k = 0; k < n; ++k) {
+      const double cdf = (w[k] - 1.0 + d) / (2.0 * d);
+      ks = std::max({ks, std::fabs(cdf - double(k) / n), std::fabs(cdf - double(k + 1) / n)});
+    }
+    EXPECT_LT(ks, 1.63 / std::sqrt(double(n))) << "spread " << d;
+    EXPECT_GE(w.front(), 1.0 - d);
+    EXPECT_LE(w.back(), 1.0 + d);
   }
 }
 
@@ -92,7 +113,7 @@ TEST(StrengthWeibull, ModelFactorsAreTheSeedsDrawsOfEachBondsEnds) {
   const auto ends = on_host(model.bonds.nodes);
   const auto cell_scale = on_host(model.elements.cell_inverse_strength_scale);
   const auto slots = on_host(model.element_bonds);
-  const StrengthWeibull law = weibull_of(6.0);
+  const StrengthDistribution law = weibull_of(6.0);
   for (int b = 0; b < model.bonds.count; ++b) {
     const double expected = law.factor(uniform_draw(7, bond_key(ends(b, 0), ends(b, 1))));
     ASSERT_EQ(scale(b), expected) << "slot " << b;
