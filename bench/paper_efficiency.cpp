@@ -6,7 +6,8 @@
 //   3), time and ratio to DE only, beside the paper's 300.62 / 587.97 / 563.12 / 1250.94 s
 //   (case A 47.0%, case B 45.0% of DE only). The paper's times are for its own serial code and
 //   machine: compare ratios.
-// Adaptive-capable: the same plate run as an `adaptive` body of an elastic material (nothing can convert)
+// Adaptive-capable: the same plate run as an `adaptive` body of an elastic material (nothing can
+// convert)
 //   against the pure FE run: the cost of being adaptive-capable (target: within 5%); and the
 //   phase table of every run, where a scene without contact-capable bodies (plate_fe) shows zero
 //   calls of "fracta::contact_search".
@@ -33,6 +34,7 @@
 
 #include "host/case.hpp"
 #include "host/contact.hpp"
+#include "host/memory.hpp"
 #include "host/simulation.hpp"
 #include "region_timer.hpp"
 
@@ -114,6 +116,7 @@ void print_phases(const char* name, const RunResult& r) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  fracta::keep_large_blocks_mapped();
   setenv("OMP_PROC_BIND", "spread", 0);
   setenv("OMP_PLACES", "threads", 0);
   Kokkos::ScopeGuard kokkos(argc, argv);

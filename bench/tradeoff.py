@@ -24,8 +24,15 @@ time) into the results directory.
     relative to the reference run: the finest cell size with the case's own settings
     (conversion_strain 0.02, viscous hourglass control).
 
+(c) fragmentation: cases/validation/bar_fragmentation_e10.toml (a ceramic bar at a uniform
+    strain rate, eps_dot / eps_dot_0 = 10, to 10 t0), cell size x seed of the strength scatter.
+    Reported per cell size: the mean fragment size (bar length / fragments) over the first n
+    seeds for n = 1..4, the spread of the seeds (standard deviation), the standard error of the
+    mean, the ratio to the Zhou-Molinari-Ramesh fit 4.5 L0 / (1 + 4.5 e^(2/3)) = 62.8 um and the
+    wall time per seed: what an ensemble and a finer lattice buy and cost.
+
 Usage: /usr/bin/python3 bench/tradeoff.py [--fracta build/fracta] [--out bench/results]
-                                          [--study plate|penetration|all] [--quick]
+                                          [--study plate|penetration|fragmentation|all] [--quick]
 """
 import argparse
 import csv
@@ -64,6 +71,12 @@ PEN_CONVERSION = [0.01, 0.02, 0.05]
 PEN_HOURGLASS = ["viscous", "stiffness"]
 PEN_END = 80e-6  # s, the case's own end time
 PEN_GAP = 0.002  # m, projectile above the slab in the case file
+
+FRAG_CASE = "validation/bar_fragmentation_e10.toml"
+FRAG_CELLS_UM = [10.0, 5.0, 2.5]
+FRAG_SEEDS = [1, 2, 3, 4]
+FRAG_LENGTH = 3.75e-3  # m, the bar in the case file
+FRAG_ZMR = 62.8e-6  # m, 4.5 L0 / (1 + 4.5 * 10^(2/3)) with L0 = 0.306 mm
 
 
 def run_fracta(fracta, case, overrides, out):
@@ -263,11 +276,54 @@ def study_penetration(fracta, out, tmp, quick):
     return rows
 
 
+def study_fragmentation(fracta, out, tmp, quick):
+    cells = FRAG_CELLS_UM[:2] if quick else FRAG_CELLS_UM
+    seeds = FRAG_SEEDS[:2] if quick else FRAG_SEEDS
+    runs = []
+    for h in cells:
+        for seed in seeds:
+            path = os.path.join(tmp, "bar.h5")
+            rc, msg = run_fracta(fracta, FRAG_CASE, [
+                f"body.bar.cell_size={h * 1e-6:.9g}", f"simulation.seed={seed}",
+                "simulation.output_interval=1.0", 'output.fields=["velocity"]'], path)
+            run = dict(cell_um=h, seed=seed, status=rc, message=msg, fragments=0,
+                       wall_s=float("nan"), energy_error=float("nan"))
+            if rc == 0:
+                with h5py.File(path, "r") as f:
+                    frames = f["frames"]
+                    last = frames[max(frames.keys(), key=int)]
+                    run["fragments"] = len(last["fragment_mass"])
+                    run["wall_s"] = float(attr(f, "wall_seconds"))
+                    run["energy_error"] = float(np.max(np.abs(f["history/energy/error"][:])))
+            runs.append(run)
+            print(f"fragmentation h {h:g} um seed {seed}: " +
+                  (f"{run['fragments']} fragments, {run['wall_s']:.2f} s" if rc == 0
+                   else f"exit {rc}: {msg}"), flush=True)
+    write_csv(runs, ["cell_um", "seed", "status", "fragments", "wall_s", "energy_error",
+                     "message"], os.path.join(out, "tradeoff_fragmentation_runs.csv"))
+    rows = []
+    for h in cells:
+        sizes = [FRAG_LENGTH / r["fragments"] for r in runs
+                 if r["cell_um"] == h and r["status"] == 0 and r["fragments"] > 0]
+        walls = [r["wall_s"] for r in runs if r["cell_um"] == h and r["status"] == 0]
+        for n in range(1, len(sizes) + 1):
+            sample = np.array(sizes[:n])
+            sd = float(np.std(sample, ddof=1)) if n > 1 else float("nan")
+            rows.append(dict(cell_um=h, seeds=n, mean_size_um=1e6 * float(sample.mean()),
+                             sd_um=1e6 * sd, standard_error_um=1e6 * sd / math.sqrt(n),
+                             size_over_zmr=float(sample.mean()) / FRAG_ZMR,
+                             wall_s=float(np.sum(walls[:n]))))
+    write_csv(rows, ["cell_um", "seeds", "mean_size_um", "sd_um", "standard_error_um",
+                     "size_over_zmr", "wall_s"], os.path.join(out, "tradeoff_fragmentation.csv"))
+    return rows
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--fracta", default=os.path.join(ROOT, "build", "fracta"))
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
-    ap.add_argument("--study", choices=["plate", "penetration", "all"], default="all")
+    ap.add_argument("--study", choices=["plate", "penetration", "fragmentation", "all"],
+                    default="all")
     ap.add_argument("--quick", action="store_true", help="two cell sizes only (pipeline check)")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
@@ -276,6 +332,8 @@ def main():
             study_plate(args.fracta, args.out, tmp, args.quick)
         if args.study in ("penetration", "all"):
             study_penetration(args.fracta, args.out, tmp, args.quick)
+        if args.study in ("fragmentation", "all"):
+            study_fragmentation(args.fracta, args.out, tmp, args.quick)
     with open(os.path.join(args.out, "tradeoff_machine.txt"), "w") as f:
         for k, v in machine_info().items():
             f.write(f"{k}: {v}\n")

@@ -140,6 +140,19 @@ def penetration_tradeoff_block(results):
                    f"exit {r['status']}"] for r in rows])
 
 
+def fragmentation_tradeoff_block(results):
+    path = os.path.join(results, "tradeoff_fragmentation.csv")
+    if not os.path.exists(path):
+        return "(not run)"
+    rows = read_csv(path)
+    return table(["cell (µm)", "seeds", "mean size (µm)", "seed spread (µm)",
+                  "standard error (µm)", "size / ZMR fit", "wall, all seeds (s)"],
+                 [[r["cell_um"], r["seeds"], fmt(float(r["mean_size_um"]), ".1f"),
+                   fmt(float(r["sd_um"]), ".1f"), fmt(float(r["standard_error_um"]), ".1f"),
+                   fmt(float(r["size_over_zmr"]), ".3f"), fmt(float(r["wall_s"]), ".2f")]
+                  for r in rows])
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--results", default=os.path.join(ROOT, "bench", "results"))
@@ -152,6 +165,7 @@ def main():
         "paper": paper_block(args.results),
         "tradeoff_plate": plate_block(args.results),
         "tradeoff_penetration": penetration_tradeoff_block(args.results),
+        "tradeoff_fragmentation": fragmentation_tradeoff_block(args.results),
     }
     text = open(args.doc).read()
     for name, body in blocks.items():

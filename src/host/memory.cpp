@@ -8,6 +8,9 @@
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "host/mesh.hpp"
 
@@ -137,6 +140,12 @@ double available_memory_bytes() {
     if (std::sscanf(line.c_str(), "MemAvailable: %lf kB", &kib) == 1) return kib * 1024.0;
   }
   return -1;
+}
+
+void keep_large_blocks_mapped() {
+#if defined(__GLIBC__)
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);  // a fixed threshold also stops the dynamic one
+#endif
 }
 
 std::string format_bytes(double bytes) {
