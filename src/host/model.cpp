@@ -294,15 +294,15 @@ bool needs_particles(const Case& c) {
 // material asks for them, and a note of their range for check and run.
 void draw_heterogeneity(Model& model) {
   const Case& c = model.scene;
-  std::vector<StrengthDistribution> weibull(c.materials.size());
+  std::vector<StrengthDistribution> laws(c.materials.size());
   bool heterogeneous = false;
   for (size_t mi = 0; mi < c.materials.size(); ++mi) {
     const double m = c.materials[mi].weibull_modulus;
     const double spread = c.materials[mi].strength_spread;
     if (m > 0.0)
-      weibull[mi] = {m, 1.0 / std::tgamma(1.0 + 1.0 / m), 0.0};
+      laws[mi] = {m, 1.0 / std::tgamma(1.0 + 1.0 / m), 0.0};
     else if (spread > 0.0)
-      weibull[mi] = {0.0, 1.0, spread};
+      laws[mi] = {0.0, 1.0, spread};
     else
       continue;
     heterogeneous = true;
@@ -313,7 +313,7 @@ void draw_heterogeneity(Model& model) {
   model.elements.cell_inverse_strength_scale =
       View<double*>("fracta::cell_inverse_strength_scale", model.elements.count);
   draw_strength_scales(bonds, model.elements, model.element_bonds,
-                       to_device_1d<StrengthDistribution>("strength_weibull", weibull), c.sim.seed);
+                       to_device_1d<StrengthDistribution>("strength_laws", laws), c.sim.seed);
   double lowest = 0, highest = 0;
   const View<double*> scale = bonds.strength_scale;
   Kokkos::parallel_reduce(

@@ -64,13 +64,13 @@ struct StrengthDistribution {
 // smallest factor of each cell's slots (the cell stress's bound: compute_cell_stress).
 inline void draw_strength_scales(const Bonds& bonds, const Elements& elements,
                                  const View<int* [6]>& element_bonds,
-                                 const View<const StrengthDistribution*>& weibull,
+                                 const View<const StrengthDistribution*>& laws,
                                  std::uint64_t seed) {
   Kokkos::parallel_for(
       "fracta::draw_strength_scales", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
       KOKKOS_LAMBDA(const int b) {
         const int cell = bonds.cells(b, 0) >= 0 ? bonds.cells(b, 0) : bonds.cells(b, 1);
-        const StrengthDistribution law = weibull(elements.material(cell));
+        const StrengthDistribution law = laws(elements.material(cell));
         bonds.strength_scale(b) =
             law.factor(uniform_draw(seed, bond_key(bonds.nodes(b, 0), bonds.nodes(b, 1))));
       });
