@@ -6,13 +6,10 @@
 #include <Kokkos_Core.hpp>
 #include <cstdlib>
 
-#include "host/memory.hpp"
-
 namespace fracta::bench {
 
 template <class Register>
 int run_benchmarks(int argc, char** argv, Register register_benchmarks) {
-  keep_large_blocks_mapped();
   setenv("OMP_PROC_BIND", "spread", 0);
   setenv("OMP_PLACES", "threads", 0);
   Kokkos::ScopeGuard kokkos(argc, argv);

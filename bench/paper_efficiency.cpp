@@ -34,7 +34,6 @@
 
 #include "host/case.hpp"
 #include "host/contact.hpp"
-#include "host/memory.hpp"
 #include "host/simulation.hpp"
 #include "region_timer.hpp"
 
@@ -116,7 +115,6 @@ void print_phases(const char* name, const RunResult& r) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  fracta::keep_large_blocks_mapped();
   setenv("OMP_PROC_BIND", "spread", 0);
   setenv("OMP_PLACES", "threads", 0);
   Kokkos::ScopeGuard kokkos(argc, argv);

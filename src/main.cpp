@@ -80,7 +80,6 @@ int check_case(const fracta::Case& c) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  fracta::keep_large_blocks_mapped();
   // Kokkos 3.4 prints a warning on stdout unless the OpenMP binding is set: set a good default.
   setenv("OMP_PROC_BIND", "spread", 0);
   setenv("OMP_PLACES", "threads", 0);

@@ -4,10 +4,7 @@
 #include <Kokkos_Core.hpp>
 #include <cstring>
 
-#include "host/memory.hpp"
-
 int main(int argc, char** argv) {
-  fracta::keep_large_blocks_mapped();  // as every fracta program
   bool listing = false;
   for (int i = 1; i < argc; ++i)
     if (std::strncmp(argv[i], "--gtest_list_tests", 18) == 0) listing = true;

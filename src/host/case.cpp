@@ -730,13 +730,12 @@ Material read_material(const Reader& r, Names& names) {
   m.weibull_modulus = r.number("weibull_modulus", Range::ge(0).le(1000), 0.0);
   if (m.weibull_modulus > 0.0 && m.weibull_modulus < 1.0)
     r.fail("weibull_modulus", "must be 0 (uniform strength) or at least 1");
-  if (m.weibull_modulus > 0.0 && !(m.tensile_strength > 0.0 || m.cohesion > 0.0))
-    r.fail("weibull_modulus", "needs a tensile_strength or cohesion > 0 (it scales them)");
   m.strength_spread = r.number("strength_spread", Range::ge(0).lt(1), 0.0);
   if (m.strength_spread > 0.0 && m.weibull_modulus > 0.0)
     r.fail("strength_spread", "give either weibull_modulus or strength_spread, not both");
-  if (m.strength_spread > 0.0 && !(m.tensile_strength > 0.0 || m.cohesion > 0.0))
-    r.fail("strength_spread", "needs a tensile_strength or cohesion > 0 (it scales them)");
+  if (m.random_strength() && !(m.tensile_strength > 0.0 || m.cohesion > 0.0))
+    r.fail(m.weibull_modulus > 0.0 ? "weibull_modulus" : "strength_spread",
+           "needs a tensile_strength or cohesion > 0 (it scales them)");
   if (const auto rate = r.optional_table("rate_dependence")) {
     m.rate_dependence = read_rate_dependence(*rate);
     if (!(m.tensile_strength > 0.0 || m.cohesion > 0.0))

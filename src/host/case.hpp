@@ -71,6 +71,7 @@ struct Material {
   double fracture_energy = 0;    // J/m^2, cohesive bond softening; 0 = brittle bonds
   double weibull_modulus = 0;    // m of the bonds' strength factors (unit mean); 0 = uniform
   double strength_spread = 0;    // or factors uniform on [1 - spread, 1 + spread]
+  bool random_strength() const { return weibull_modulus > 0.0 || strength_spread > 0.0; }
   // Dynamic increase factors of the bond strength and fracture energy against the bond's strain
   // rate (1/s, increasing); empty = rate independent.
   struct RateTable {

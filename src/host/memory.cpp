@@ -104,8 +104,7 @@ MemoryEstimate estimate_memory(const Case& c) {
     if (body_has_lattice(c.bodies[i])) {
       bytes += cells * kConvertibleCellBytes + nodes * kDiscBytes;
       const int material = c.bodies[i].material_index;
-      if (material >= 0 && (c.materials[material].weibull_modulus > 0.0 ||
-                            c.materials[material].strength_spread > 0.0))
+      if (material >= 0 && c.materials[material].random_strength())
         bytes += cells * kWeibullCellBytes;
       if (material >= 0 && !c.materials[material].rate_dependence.strain_rate.empty())
         bytes += nodes * kRateNodeBytes;

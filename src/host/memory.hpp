@@ -40,7 +40,8 @@ void check_memory(const Case& c);
 // mapped block that is freed: once the set-up frees a large host vector, views up to that size
 // come from the heap instead, and the element kernel of a million-cell mesh ran 1.5 times
 // slower (1.16e6 elements, one thread: 21 against 14 ms per sweep; the same with huge pages).
-// Called first thing by every program (fracta, the benchmarks, the tests); no-op off glibc.
+// build_model calls it before it allocates, so every program that builds a model has it (fracta,
+// the benchmarks, the tests); a no-op off glibc.
 void keep_large_blocks_mapped();
 
 // "1.5 GB", "320 MB": for messages.

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "host/memory.hpp"
 #include "kernels/conversion.hpp"
 #include "kernels/heterogeneity.hpp"
 
@@ -637,6 +638,7 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
 }  // namespace
 
 Model build_model(const Case& c) {
+  keep_large_blocks_mapped();  // before the mesh's views and the set-up's host vectors
   // A rigid part of a deformable body is not modelled: refuse, never ignore.
   for (const Body& b : c.bodies) {
     auto refuse = [&](BodyMethod m, const SourcePos& pos, const std::string& key) {

@@ -415,6 +415,19 @@ struct BondForces {
     }
   }
 
+  // Whether the lanes' strengths are scaled: by random strength factors (Bonds::strength_scale) or
+  // by a dynamic increase factor (RateLaw). Unscaled, the check keeps the arithmetic of a uniform,
+  // rate-independent lattice.
+  KOKKOS_INLINE_FUNCTION bool scaled(const double rate_factor) const {
+    return bonds.strength_scale.extent(0) > 0 || rate_factor != 1.0;
+  }
+  // The lanes' random strength factors (1 without them).
+  template <class T, int L>
+  KOKKOS_FORCEINLINE_FUNCTION T strength_scale(const BondLanes<L>& s) const {
+    return bonds.strength_scale.extent(0) > 0 ? column<T>(bonds.strength_scale, s.b, true)
+                                              : splat<T>(1.0);
+  }
+
   // Whether the lanes' bonds reach their strength (FaceStrength; docs/physics.md 1.2, "Face
   // failure") on the face each stands for: the cell face normal to an edge bond, the diagonal
   // plane for a diagonal. The traction comes from the mean continuum stress of the bond's intact
@@ -423,20 +436,7 @@ struct BondForces {
   // bond at sigma_t and a direct shear test at tau = c + sigma tan(phi): a single bond's fn / S
   // cannot see the stress along its face (the Poisson coupling) and would miss the envelope under
   // confinement. With no intact cell left (a fragment's edge): the bond's own fn / S and |fs| / S.
-  // Whether the lanes' strengths are scaled: by Weibull factors (Bonds::strength_scale) or by a
-  // dynamic increase factor (RateLaw). Unscaled, the check keeps the arithmetic of a uniform,
-  // rate-independent lattice.
-  KOKKOS_INLINE_FUNCTION bool scaled(const double rate_factor) const {
-    return bonds.strength_scale.extent(0) > 0 || rate_factor != 1.0;
-  }
-  // The lanes' Weibull factors (1 without them).
-  template <class T, int L>
-  KOKKOS_FORCEINLINE_FUNCTION T strength_scale(const BondLanes<L>& s) const {
-    return bonds.strength_scale.extent(0) > 0 ? column<T>(bonds.strength_scale, s.b, true)
-                                              : splat<T>(1.0);
-  }
-
-  // The strengths are scaled by each bond's Weibull factor (Bonds::strength_scale) and by
+  // The strengths are scaled by each bond's random factor (Bonds::strength_scale) and by
   // rate_factor (the bond-by-bond path's dynamic increase factor, RateLaw).
   template <class T, int L>
   KOKKOS_FORCEINLINE_FUNCTION auto reaches_strength(const FaceStrength& face, const BondLanes<L>& s,
@@ -818,7 +818,7 @@ struct BondForces {
       if (reached && law.rate.active()) {
         const double rate = normal_strain_rate(s, g, v.length0);
         reached = reaches(law.rate.strength_factor(rate));
-        softening.fracture_energy *= law.rate.fracture_energy_factor(rate);
+        if (reached) softening.fracture_energy *= law.rate.fracture_energy_factor(rate);
       }
       if (reached) {
         onset = start_softening(b, softening, v);
