@@ -148,7 +148,7 @@ int main(int argc, char** argv) {
   const RunInfo info = run_info(c);
   double output_seconds = 0.0;
   {
-    OutputFile out(out_path, info);
+    OutputFile out(out_path, info, FrameStorage{c.output.single_precision, c.output.compression});
     declare_probes(out, sim);
     const auto record = [&] { record_history(out, sim); };
 
@@ -194,7 +194,8 @@ int main(int argc, char** argv) {
     const double run_seconds = seconds_since(t_run);
     const auto totals = bench::RegionTimer::totals();
     const HistoryRecord h1 = sim.history();
-    out.finish(sim.steps(), run_seconds, sim.failed() ? "failed" : "completed");
+    out.finish(sim.steps(), RunTimes{run_seconds, output_seconds},
+               sim.failed() ? "failed" : "completed");
 
     // Counts: the mean of the window's first and last state (they change with conversion).
     const auto mean = [&](long a, long b) { return 0.5 * static_cast<double>(a + b); };

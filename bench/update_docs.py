@@ -153,6 +153,21 @@ def fragmentation_tradeoff_block(results):
                   for r in rows])
 
 
+def output_cost_block(results):
+    path = os.path.join(results, "output_cost.csv")
+    if not os.path.exists(path):
+        return "(not run)"
+    rows = read_csv(path)
+    return table(["scene", "nodes", "commits", "precision", "compression", "frames",
+                  "ms per frame", "gathering", "frame files", "final copy",
+                  "B per node and frame"],
+                 [[r["scene"], r["nodes"], r["commits"], r["precision"], r["compression"],
+                   r["frames"], fmt(float(r["ms_per_frame"]), ".3g"),
+                   fmt(float(r["gather_ms"]), ".3g"), fmt(float(r["files_ms"]), ".3g"),
+                   fmt(float(r["copy_ms"]), ".3g"),
+                   fmt(float(r["bytes_per_node_frame"]), ".1f")] for r in rows])
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--results", default=os.path.join(ROOT, "bench", "results"))
@@ -166,6 +181,7 @@ def main():
         "tradeoff_plate": plate_block(args.results),
         "tradeoff_penetration": penetration_tradeoff_block(args.results),
         "tradeoff_fragmentation": fragmentation_tradeoff_block(args.results),
+        "output_cost": output_cost_block(args.results),
     }
     text = open(args.doc).read()
     for name, body in blocks.items():

@@ -29,12 +29,13 @@ for path in A.h5:
     n = int(f["frames"].attrs["count"])
     print(f"{path}: h {h*1e3:.3g} mm, tip at x-a = {(i*h - A.a)*1e3:.3f} mm")
     for k in range(1, n, A.every):
-        fr = f[f"frames/{k}"]; X = fr["node_position"][:]; t = float(fr["time"][()])
+        # Openings from displacements, not positions: float32 frames keep 7 digits of each.
+        fr = f[f"frames/{k}"]; U = fr["node_displacement"][:]; t = float(fr["time"][()])
         rs, cs = [], []
         for m in range(1, int(A.rmax / h) + 1):
             r = m * h
             if r < A.rmin: continue
-            dl = (X[key[(i - m, j0 + 1)], 1] - X[key[(i - m, j0)], 1]) - h
+            dl = U[key[(i - m, j0 + 1)], 1] - U[key[(i - m, j0)], 1]
             rs.append(r); cs.append(dl / math.sqrt(r))
         C, D = np.polyfit(rs, cs, 1)[::-1] if len(rs) > 2 else (np.mean(cs), 0)
         K = C * Ep * math.sqrt(2 * math.pi) / 8

@@ -139,6 +139,7 @@ const Choices<BodyMethod> kMethods = {{"fe", BodyMethod::fe},
                                       {"rigid", BodyMethod::rigid}};
 const Choices<HourglassForm> kHourglass = {{"viscous", HourglassForm::viscous},
                                            {"stiffness", HourglassForm::stiffness}};
+const Choices<bool> kPrecisions = {{"single", true}, {"double", false}};
 const Choices<Integration> kIntegration = {{"reduced", Integration::reduced},
                                            {"full", Integration::full}};
 const Choices<Shape::Type> kShapeTypes = {{"rectangle", Shape::Type::rectangle},
@@ -933,7 +934,7 @@ BodyProbe read_body_probe(const Reader& r, Names& names, const Names& bodies) {
 }
 
 OutputParams read_output(const Reader& r) {
-  r.allow_only({"file", "fields", "checkpoint_interval"});
+  r.allow_only({"file", "fields", "checkpoint_interval", "precision", "compression"});
   OutputParams o;
   o.file = r.string("file", o.file);
   if (o.file.empty()) r.fail("file", "must not be empty");
@@ -947,6 +948,10 @@ OutputParams read_output(const Reader& r) {
       r.fail("fields", "field " + in_quotes(f) + " is listed twice");
   }
   o.checkpoint_interval = r.number("checkpoint_interval", Range::ge(0), o.checkpoint_interval);
+  o.single_precision = r.choice("precision", kPrecisions, o.single_precision);
+  const double level = r.number("compression", Range::ge(0).le(9), o.compression);
+  if (level != std::floor(level)) r.fail("compression", "must be a whole number from 0 to 9");
+  o.compression = static_cast<int>(level);
   return o;
 }
 

@@ -188,6 +188,8 @@ struct OutputParams {
   std::string file = "out.h5";
   std::vector<std::string> fields{"velocity", "stress", "plastic_strain"};
   double checkpoint_interval = 0;  // s; 0 = none
+  bool single_precision = true;    // precision = "single" (default) or "double": frame arrays
+  int compression = 0;             // deflate level of frame arrays, 0 (none) to 9
 };
 
 struct Case {

@@ -5,6 +5,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -179,11 +180,11 @@ bool Io::exists(hid_t loc, const std::string& name) const {
 
 template <class T>
 void Io::write_attribute(hid_t obj, const char* name, const T& value) const {
-  const std::string what = "cannot write attribute " + where(obj, "") + " " + name;
+  const auto what = [&] { return "cannot write attribute " + where(obj, "") + " " + name; };
   if (H5Aexists(obj, name) > 0) ok(H5Adelete(obj, name), what);
   Handle space(id(H5Screate(H5S_SCALAR), what), H5Sclose);
   if constexpr (std::is_same_v<T, std::string>) {
-    const Handle type = string_type(*this, what);
+    const Handle type = string_type(*this, what());
     Handle attr(id(H5Acreate2(obj, name, type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), what),
                 H5Aclose);
     const char* p = value.c_str();
@@ -198,11 +199,11 @@ void Io::write_attribute(hid_t obj, const char* name, const T& value) const {
 
 template <class T>
 T Io::read_attribute(hid_t obj, const char* name) const {
-  const std::string what = "cannot read attribute " + where(obj, "") + " " + name;
+  const auto what = [&] { return "cannot read attribute " + where(obj, "") + " " + name; };
   if (H5Aexists(obj, name) <= 0) fail("attribute " + where(obj, "") + " " + name + " is missing");
   Handle attr(id(H5Aopen(obj, name, H5P_DEFAULT), what), H5Aclose);
   if constexpr (std::is_same_v<T, std::string>) {
-    const Handle type = string_type(*this, what);
+    const Handle type = string_type(*this, what());
     char* p = nullptr;
     ok(H5Aread(attr.get(), type.get(), &p), what);
     std::string s = p ? p : "";
@@ -217,21 +218,43 @@ T Io::read_attribute(hid_t obj, const char* name) const {
 
 template <class T>
 void Io::write_array(hid_t loc, const std::string& name, const std::vector<hsize_t>& dims,
-                     const std::vector<T>& values) const {
-  const std::string what = "cannot write dataset " + where(loc, name);
+                     const std::vector<T>& values, const Storage& storage) const {
+  const auto what = [&] { return "cannot write dataset " + where(loc, name); };
   Handle space(id(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), what),
                H5Sclose);
-  Handle ds(id(H5Dcreate2(loc, name.c_str(), Types<T>::file(), space.get(), H5P_DEFAULT,
-                          H5P_DEFAULT, H5P_DEFAULT),
+  const hid_t file_type =
+      std::is_floating_point_v<T> && storage.single_precision ? H5T_IEEE_F32LE : Types<T>::file();
+  Handle dcpl(id(H5Pcreate(H5P_DATASET_CREATE), what), H5Pclose);
+  if (storage.deflate > 0 && !values.empty() && !dims.empty()) {
+    // Chunks of whole rows, at most 2^18 values: small enough for HDF5's 1 MiB chunk cache.
+    std::vector<hsize_t> chunk = dims;
+    hsize_t row = 1;
+    for (std::size_t d = 1; d < dims.size(); ++d) row *= dims[d];
+    chunk[0] = std::max<hsize_t>(1, std::min<hsize_t>(dims[0], (hsize_t{1} << 18) / row));
+    ok(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()), what);
+    ok(H5Pset_shuffle(dcpl.get()), what);
+    ok(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(storage.deflate)), what);
+  }
+  Handle ds(id(H5Dcreate2(loc, name.c_str(), file_type, space.get(), H5P_DEFAULT, dcpl.get(),
+                          H5P_DEFAULT),
                what),
             H5Dclose);
-  if (!values.empty())
+  if (values.empty()) return;
+  if (file_type == H5T_IEEE_F32LE) {
+    // Rounded here, not by HDF5: its conversion path goes through a zeroed 1 MiB buffer per
+    // write, which made a float32 frame slower to write than a float64 one. The buffer is kept
+    // (a fresh one per array costs its page faults, as much as the write at 10^6 nodes).
+    thread_local std::vector<float> rounded;
+    rounded.assign(values.begin(), values.end());
+    ok(H5Dwrite(ds.get(), H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, rounded.data()), what);
+  } else {
     ok(H5Dwrite(ds.get(), Types<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), what);
+  }
 }
 
 template <class T>
 void Io::write_scalar(hid_t loc, const std::string& name, T value) const {
-  const std::string what = "cannot write dataset " + where(loc, name);
+  const auto what = [&] { return "cannot write dataset " + where(loc, name); };
   Handle space(id(H5Screate(H5S_SCALAR), what), H5Sclose);
   Handle ds(id(H5Dcreate2(loc, name.c_str(), Types<T>::file(), space.get(), H5P_DEFAULT,
                           H5P_DEFAULT, H5P_DEFAULT),
@@ -243,13 +266,13 @@ void Io::write_scalar(hid_t loc, const std::string& name, T value) const {
 template <class T>
 std::vector<T> Io::read_array(hid_t loc, const std::string& name,
                               const std::vector<hsize_t>& dims) const {
-  const std::string what = "cannot read dataset " + where(loc, name);
+  const auto what = [&] { return "cannot read dataset " + where(loc, name); };
   if (!exists(loc, name)) fail("dataset " + name + " is missing");
   Handle ds(id(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), what), H5Dclose);
   Handle space(id(H5Dget_space(ds.get()), what), H5Sclose);
   const int rank = H5Sget_simple_extent_ndims(space.get());
   std::vector<hsize_t> got(rank > 0 ? rank : 0);
-  if (rank < 0 || H5Sget_simple_extent_dims(space.get(), got.data(), nullptr) < 0) fail(what);
+  if (rank < 0 || H5Sget_simple_extent_dims(space.get(), got.data(), nullptr) < 0) fail(what());
   if (got != dims)
     fail("dataset " + name + " has shape " + shape(got) + ", the model needs " + shape(dims));
   size_t n = 1;
@@ -261,18 +284,18 @@ std::vector<T> Io::read_array(hid_t loc, const std::string& name,
 }
 
 hsize_t Io::size_of(hid_t loc, const std::string& name) const {
-  const std::string what = "cannot read dataset " + where(loc, name);
+  const auto what = [&] { return "cannot read dataset " + where(loc, name); };
   if (!exists(loc, name)) fail("dataset " + name + " is missing");
   Handle ds(id(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), what), H5Dclose);
   Handle space(id(H5Dget_space(ds.get()), what), H5Sclose);
   const hssize_t n = H5Sget_simple_extent_npoints(space.get());
-  if (n < 0) fail(what);
+  if (n < 0) fail(what());
   return static_cast<hsize_t>(n);
 }
 
 template <class T>
 void Io::create_series(hid_t loc, const char* name, hsize_t chunk_rows) const {
-  const std::string what = "cannot create dataset " + where(loc, name);
+  const auto what = [&] { return "cannot create dataset " + where(loc, name); };
   const hsize_t zero = 0, unlimited = H5S_UNLIMITED;
   Handle space(id(H5Screate_simple(1, &zero, &unlimited), what), H5Sclose);
   Handle dcpl(id(H5Pcreate(H5P_DATASET_CREATE), what), H5Pclose);
@@ -286,7 +309,7 @@ void Io::create_series(hid_t loc, const char* name, hsize_t chunk_rows) const {
 template <class T>
 void Io::append_series(hid_t loc, const char* name, const std::vector<T>& values) const {
   if (values.empty()) return;
-  const std::string what = "cannot append to " + where(loc, name);
+  const auto what = [&] { return "cannot append to " + where(loc, name); };
   Handle ds(id(H5Dopen2(loc, name, H5P_DEFAULT), what), H5Dclose);
   hsize_t old_rows = 0;
   {
@@ -308,7 +331,7 @@ void Io::append_series(hid_t loc, const char* name, const std::vector<T>& values
   template void Io::write_attribute<T>(hid_t, const char*, const T&) const;                \
   template T Io::read_attribute<T>(hid_t, const char*) const;                              \
   template void Io::write_array<T>(hid_t, const std::string&, const std::vector<hsize_t>&, \
-                                   const std::vector<T>&) const;                           \
+                                   const std::vector<T>&, const Storage&) const;           \
   template void Io::write_scalar<T>(hid_t, const std::string&, T) const;                   \
   template std::vector<T> Io::read_array<T>(hid_t, const std::string&,                     \
                                             const std::vector<hsize_t>&) const;            \

@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -83,6 +84,15 @@ struct Types<int> {
   static constexpr const char* xdmf = R"(NumberType="Int" Precision="4")";
 };
 
+// How a fixed array is stored. Floating-point values as float32 (`single_precision`, converted by
+// HDF5 on the write) or float64; integers are never narrowed. `deflate` 1-9: chunked (at most
+// 2^18 values per chunk, 1 MiB of float32), with the byte shuffle before deflate at that level,
+// which HDF5 and h5py undo on read; 0: contiguous, unfiltered.
+struct Storage {
+  bool single_precision = false;
+  int deflate = 0;
+};
+
 // Turns HDF5's automatic error printing off for the process: errors become exceptions.
 void silence_error_stack();
 
@@ -100,6 +110,17 @@ class Io {
   }
   void ok(herr_t status, const std::string& what) const {
     if (status < 0) fail(what);
+  }
+  // The same with the message made only on failure (`what` returns it): a dataset's absolute
+  // name costs a search of HDF5's name tables, too much to make for every array of a frame.
+  template <class What, class = std::enable_if_t<std::is_invocable_r_v<std::string, What>>>
+  hid_t id(hid_t h, const What& what) const {
+    if (h < 0) fail(what());
+    return h;
+  }
+  template <class What, class = std::enable_if_t<std::is_invocable_r_v<std::string, What>>>
+  void ok(herr_t status, const What& what) const {
+    if (status < 0) fail(what());
   }
   // The absolute name of loc/name, for messages.
   static std::string where(hid_t loc, const std::string& name);
@@ -151,7 +172,7 @@ class Io {
   // A fixed array of shape `dims` (row-major values; zero extents allowed) or a scalar dataset.
   template <class T>
   void write_array(hid_t loc, const std::string& name, const std::vector<hsize_t>& dims,
-                   const std::vector<T>& values) const;
+                   const std::vector<T>& values, const Storage& storage = {}) const;
   template <class T>
   void write_scalar(hid_t loc, const std::string& name, T value) const;
   // Reads array `name`, which must have the shape `dims` (else the message names both shapes).

@@ -7,24 +7,37 @@
 //   are lost (both seen: "addr overflow" and empty frame groups, in about 5% of kills on a
 //   loaded machine). So no file is ever modified after it is closed:
 //     * frame K is written to OUT.h5.frames/K.h5 (group /frame) through K.h5.tmp and a rename;
-//     * OUT.h5 itself is written whole to OUT.h5.tmp at every commit (each frame, each
-//       checkpoint, the end) and renamed over the old one: /run, /history and the probes (the
-//       series copied from the previous OUT.h5 with H5Ocopy, then the new rows appended), and
-//       /frames/K as external links to the frame files (HDF5 and h5py follow them; relative to
-//       OUT.h5's directory);
+//     * OUT.h5 itself is written whole to OUT.h5.tmp at every commit and renamed over the old
+//       one: /run, /history and the probes (the series copied from the previous OUT.h5 with
+//       H5Ocopy, then the new rows appended), and /frames/K as external links to the frame
+//       files (HDF5 and h5py follow them; relative to OUT.h5's directory);
 //     * finish() consolidates: the last commit copies every frame into /frames/K of OUT.h5
 //       itself and removes OUT.h5.frames, so a completed (or interrupted, or failed) run is one
 //       self-contained file. A killed run leaves OUT.h5 + OUT.h5.frames/, complete as of its
 //       last commit; OUT.h5 must then be moved together with OUT.h5.frames.
-//   A rename is atomic, so at every instant OUT.h5 is one complete file. Cost: each commit
-//   copies the history series (O(rows), at raw I/O speed), and finish() copies the frames once.
+//   A rename is atomic, so at every instant OUT.h5 is one complete file.
+// - Cost. A frame file costs what the frame holds, whenever it is written; a commit costs in
+//   proportion to what the run has written (a link per frame, the history rows, the .xdmf's
+//   grids), about 4 ms per 100 frames on the paper's plate. Committing at every frame made a
+//   long run's output quadratic in its frames (the plate: 12.5 ms a frame at 100 frames, 43 ms
+//   at 1000; bench/output_cost.py). So a frame commits only when the last commit took at most
+//   1/kCommitSpacing of the wall time since it ended: commits then take at most
+//   1/(kCommitSpacing + 1) of the run's wall time, whatever its length, and a frame's cost does
+//   not grow with the frames before it. The first frame, checkpoints (flush()) and finish()
+//   always commit. The price: a killed run's OUT.h5 may miss the frames of its last moments
+//   (each one is in OUT.h5.frames, complete, but not listed), kCommitSpacing commit times at
+//   most.
+// - Frames store floating-point arrays as float32 by default (FrameStorage; LS-DYNA's d3plot
+//   does the same): half the bytes of float64, and 7 significant digits are more than a plot or
+//   a crack measure needs. Chunked deflate with the byte shuffle is an option: float32 positions
+//   and velocities gain little from it, connectivity and bond states much (docs/output.md).
 // - libver bounds (earliest, v18): superblock version 0/2, readable by any HDF5 1.8+.
 // - Strings (version, backend, case, case_path, status) are scalar variable-length UTF-8 string
 //   attributes. Variable-length data lives in the global heap, so the 64 KiB object-header limit
 //   does not apply and the whole case text is always the attribute /run/case (tested with
 //   200 KB); h5py reads them as str.
-// - History and probe series are 1-D chunked datasets (chunk 512 rows, unlimited maximum) that
-//   grow at every commit; frame arrays are contiguous datasets written once.
+// - History and probe series are 1-D float64/int64 chunked datasets (chunk 512 rows, unlimited
+//   maximum) that grow at every commit; frame arrays are datasets written once.
 //
 // XDMF choices (checked with ParaView 5.11's three readers, "XDMF Reader", "Xdmf3 Reader S" and
 // "Xdmf3 Reader T", through pvbatch):
@@ -62,8 +75,10 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -82,6 +97,14 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr hsize_t kChunkRows = 512;  // 4 KB per double series: small files to rewrite
+// A frame commits when the wall time since the last commit is at least this many times that
+// commit's duration (see the top of the file): commits take at most 1/20 of the wall time.
+constexpr double kCommitSpacing = 19.0;
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 using h5::Handle;
 
@@ -171,6 +194,7 @@ const char* const kEmptyWhat[] = {"nodes or elements", "discs", "bonds"};
 struct FrameInfo {
   double time = 0;
   long nodes = 0, elements = 0, particles = 0, bonds = 0;
+  bool single_precision = false;  // its floating-point arrays are float32
   std::vector<const ElementField*> fields;
 };
 
@@ -215,8 +239,19 @@ struct OutputFile::Impl {
   std::map<std::string, std::vector<BodyProbeRecord>> body_probe_rows;
   std::map<std::string, std::vector<BoundaryRecord>> boundary_rows;
   std::vector<FrameInfo> frame_info;
+  FrameStorage storage;
   bool finished = false;
-  bool consolidated = false;  // finish() copied the frames into OUT.h5
+  bool consolidated = false;         // finish() copied the frames into OUT.h5
+  std::size_t frames_committed = 0;  // frames the last commit listed
+  std::size_t xdmf_frames = 0;       // frames the .xdmf shows
+  // The commit schedule (see the top of the file) and the time spent writing.
+  Clock::time_point last_commit_end = Clock::now();
+  double last_commit_seconds = 0;
+  // A test hook (docs/development.md): FRACTA_COMMIT_EVERY_FRAME=1 commits at every frame, so
+  // that the kill tests also land inside commits as often as inside frame files.
+  double commit_spacing = std::getenv("FRACTA_COMMIT_EVERY_FRAME") ? 0.0 : kCommitSpacing;
+  double write_seconds = 0, finish_seconds = 0;
+  int commits = 0;
 
   // --- error handling and helpers (host/hdf5.hpp) -----------------------------------------
 
@@ -247,13 +282,14 @@ struct OutputFile::Impl {
     }
   }
 
-  // Fixed-size dataset: `rows` x `width` (1-D when width == 1), zero rows allowed.
+  // Fixed-size frame dataset: `rows` x `width` (1-D when width == 1), zero rows allowed, stored
+  // as the run's FrameStorage says.
   template <class T>
   void write_array(hid_t loc, const char* name, const std::vector<T>& values, std::size_t width) {
     const hsize_t rows = values.size() / width;
     io.write_array(loc, name,
                    width == 1 ? std::vector<hsize_t>{rows} : std::vector<hsize_t>{rows, width},
-                   values);
+                   values, h5::Storage{storage.single_precision, storage.deflate});
   }
 
   // --- operations ------------------------------------------------------------------------
@@ -322,14 +358,16 @@ struct OutputFile::Impl {
 
   struct FinalAttributes {
     long steps;
-    double wall_seconds;
+    RunTimes times;
     std::string status;
+    Clock::time_point finish_start;  // finish()'s own time counts as output time
   };
 
   // Writes the whole output to OUT.h5.tmp and renames it over OUT.h5 (see the top of the file).
   // `consolidate`: frames copied in from their files rather than linked. On failure the
   // temporary file is removed and OUT.h5 is the previous commit's, untouched.
   void commit(const FinalAttributes* final_attributes, bool consolidate) {
+    const auto start = Clock::now();
     const std::string tmp = path + ".tmp";
     io.require_space(path, commit_bytes(consolidate), tmp);
     // A commit copies the previous history (an object copy): in memory, as it is small, but not
@@ -346,6 +384,21 @@ struct OutputFile::Impl {
       std::error_code ignored;
       fs::remove_all(frames_dir, ignored);
     }
+    frames_committed = frame_info.size();
+    // The .xdmf after OUT.h5, so that it never shows a frame OUT.h5 does not list.
+    if (xdmf_frames != frame_info.size()) {
+      write_xdmf();
+      xdmf_frames = frame_info.size();
+    }
+    last_commit_seconds = seconds_since(start);
+    last_commit_end = Clock::now();
+    ++commits;
+  }
+
+  // A frame's commit is due once the wall time since the last commit is kCommitSpacing times
+  // what that commit took (see the top of the file).
+  bool commit_due() const {
+    return seconds_since(last_commit_end) >= commit_spacing * last_commit_seconds;
   }
 
   // The contents of OUT.h5 into the open file `root`.
@@ -360,12 +413,9 @@ struct OutputFile::Impl {
       attribute(run.get(), "threads", info.threads);
       attribute(run.get(), "case", info.case_text);
       attribute(run.get(), "case_path", info.case_path);
-      if (final_attributes) {
-        attribute(run.get(), "steps", static_cast<std::int64_t>(final_attributes->steps));
-        attribute(run.get(), "wall_seconds", final_attributes->wall_seconds);
-        attribute(run.get(), "status", final_attributes->status);
-      }
-      run.reset();
+      attribute(run.get(), "frame_precision",
+                std::string(storage.single_precision ? "single" : "double"));
+      attribute(run.get(), "frame_compression", static_cast<std::int64_t>(storage.deflate));
 
       // Series: the previous commit's, then the rows buffered since.
       if (old.get() >= 0) {
@@ -407,6 +457,17 @@ struct OutputFile::Impl {
                                 H5P_DEFAULT),
              "cannot link /frames/" + name + " to " + target);
         }
+      }
+      // The end of the run, last, so that the times include the copy of the frames.
+      if (final_attributes) {
+        const RunTimes& t = final_attributes->times;
+        const double finishing = seconds_since(final_attributes->finish_start);
+        attribute(run.get(), "steps", static_cast<std::int64_t>(final_attributes->steps));
+        attribute(run.get(), "wall_seconds", t.wall + finishing);
+        attribute(run.get(), "output_seconds", t.output + finishing);
+        attribute(run.get(), "history_seconds", t.history);
+        attribute(run.get(), "checkpoint_seconds", t.checkpoint);
+        attribute(run.get(), "status", final_attributes->status);
       }
     }  // every object closed: the caller closes the file
   }
@@ -518,11 +579,12 @@ struct OutputFile::Impl {
                     dir_error.message());
     // The frame and the commit that lists it, before HDF5 writes any of them.
     io.require_space(frames_dir, frame_bytes(f) + commit_bytes(false), final_name);
+    info.single_precision = storage.single_precision;
     io.write_file(tmp, true, false, [&](hid_t file) { write_frame_datasets(file, f, info); });
     rename_over(tmp, final_name, path);
     frame_info.push_back(std::move(info));
-    commit(nullptr, false);  // OUT.h5 now lists it
-    write_xdmf();
+    // The first frame at once (a run shows its initial state), the others when due.
+    if (frames_committed == 0 || commit_due()) commit(nullptr, false);
   }
 
   // Bytes of frame f's datasets, with a margin for HDF5's metadata.
@@ -569,9 +631,10 @@ struct OutputFile::Impl {
   // <DataItem> for the dataset /frames/K/NAME of shape `dims`.
   template <class T>
   void data_item(std::ostream& x, std::size_t k, const char* name, const std::string& dims) const {
-    x << "          <DataItem Dimensions=\"" << dims << "\" " << h5::Types<T>::xdmf
-      << " Format=\"HDF\">" << xml_escape(h5_name) << ":/frames/" << k << "/" << name
-      << "</DataItem>\n";
+    const bool single = std::is_floating_point_v<T> && frame_info[k].single_precision;
+    x << "          <DataItem Dimensions=\"" << dims << "\" "
+      << (single ? R"(NumberType="Float" Precision="4")" : h5::Types<T>::xdmf) << " Format=\"HDF\">"
+      << xml_escape(h5_name) << ":/frames/" << k << "/" << name << "</DataItem>\n";
   }
 
   template <class T>
@@ -697,9 +760,9 @@ struct OutputFile::Impl {
     rename_over(tmp, xdmf_path, path);
   }
 
-  void finish(long steps, double wall_seconds, const std::string& status) {
+  void finish(long steps, const RunTimes& times, const std::string& status) {
     if (finished) return;
-    const FinalAttributes final_attributes{steps, wall_seconds, status};
+    const FinalAttributes final_attributes{steps, times, status, Clock::now()};
     // Without room to copy the frames in, the last commit links them (OUT.h5.frames stays).
     // (commit checks the room first; a failed commit leaves OUT.h5 and the frames as they were).
     try {
@@ -723,10 +786,11 @@ struct OutputFile::Impl {
   }
 };
 
-OutputFile::OutputFile(const std::string& path, const RunInfo& info)
+OutputFile::OutputFile(const std::string& path, const RunInfo& info, const FrameStorage& storage)
     : impl_(std::make_unique<Impl>()) {
   h5::silence_error_stack();  // errors become exceptions, not stderr dumps
   impl_->path = path;
+  impl_->storage = storage;
   impl_->io = h5::Io("output " + path);
   impl_->open(info);
 }
@@ -772,16 +836,31 @@ void OutputFile::append_boundary(const std::string& name, const BoundaryRecord& 
   Impl::buffer(impl_->path, impl_->boundary_rows, name, r);
 }
 
+namespace {
+// Adds the wall time of its scope to `total`, also when the scope ends by an exception.
+struct ScopeTimer {
+  double& total;
+  Clock::time_point start = Clock::now();
+  ~ScopeTimer() { total += seconds_since(start); }
+};
+}  // namespace
+
 void OutputFile::write_frame(const FrameData& f) {
+  const ScopeTimer timer{impl_->write_seconds};
   impl_->write_frame(f);
 }
 
 void OutputFile::flush() {
-  impl_->flush();
+  impl_->flush();  // the caller's time (a checkpoint's), not the frames'
 }
 
-void OutputFile::finish(long steps, double wall_seconds, const std::string& status) {
-  impl_->finish(steps, wall_seconds, status);
+void OutputFile::finish(long steps, const RunTimes& times, const std::string& status) {
+  const auto start = Clock::now();
+  {
+    const ScopeTimer timer{impl_->write_seconds};
+    impl_->finish(steps, times, status);
+  }
+  impl_->finish_seconds = seconds_since(start);
 }
 
 void OutputFile::abandon() {
@@ -798,6 +877,22 @@ const std::string& OutputFile::path() const {
 
 int OutputFile::frames_written() const {
   return static_cast<int>(impl_->frame_info.size());
+}
+
+int OutputFile::frames_committed() const {
+  return static_cast<int>(impl_->frames_committed);
+}
+
+int OutputFile::commits() const {
+  return impl_->commits;
+}
+
+double OutputFile::write_seconds() const {
+  return impl_->write_seconds;
+}
+
+double OutputFile::finish_seconds() const {
+  return impl_->finish_seconds;
 }
 
 }  // namespace fracta

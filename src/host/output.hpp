@@ -1,9 +1,12 @@
 // HDF5 output (docs/output.md) and its XDMF side file for ParaView.
 // Host-only: the solver copies device state into these plain structs at output time.
-// History rows are buffered in memory and committed by flush(); every write_frame() commits.
-// A commit writes the whole OUT.h5 to OUT.h5.tmp and renames it into place (frames live in
-// OUT.h5.frames/K.h5 until finish() copies them in; output.cpp explains why), so at every
-// instant OUT.h5 is a complete file: a killed run leaves every frame committed before the kill.
+// Frame K is written once, to OUT.h5.frames/K.h5; history rows are buffered in memory. A commit
+// writes the index OUT.h5 (the run attributes, the series, links to the frames) whole to
+// OUT.h5.tmp and renames it into place, then the .xdmf likewise (output.cpp explains why), so at
+// every instant OUT.h5 is a complete file: a killed run leaves every frame committed before the
+// kill. A commit costs in proportion to what the run has written, so write_frame() commits only
+// when the last commit took at most 1/20 of the wall time since it ended: whatever the run's
+// length, commits take at most about 5% of its wall time and a frame costs the same.
 #pragma once
 #include <array>
 #include <map>
@@ -95,11 +98,26 @@ struct FrameData {
   std::vector<std::string> fields;  // which optional fields to write ("velocity", "stress", ...)
 };
 
+// How frames store their arrays ([output] precision and compression, docs/output.md).
+// Checkpoints and the history series are always float64.
+struct FrameStorage {
+  bool single_precision = true;  // floating-point frame arrays as float32 (d3plot's choice)
+  int deflate = 0;               // 1-9: chunked, shuffled and deflated at that level; 0: raw
+};
+
+// Wall time (s) of a run and of its parts, for the /run attributes and the run summary.
+struct RunTimes {
+  double wall = 0;        // the whole run, from start-up
+  double output = 0;      // frames: gathering from the device, writing, commits, the final copy
+  double history = 0;     // history, probe and boundary rows: evaluating and buffering them
+  double checkpoint = 0;  // checkpoints (with the commit of the output that precedes each)
+};
+
 class OutputFile {
  public:
   // Creates (truncates) `path` and writes /run attributes. Writes throw IoError (hdf5.hpp) when
   // a file cannot be written (full file system, missing or read-only directory).
-  OutputFile(const std::string& path, const RunInfo& info);
+  OutputFile(const std::string& path, const RunInfo& info, const FrameStorage& storage = {});
   ~OutputFile();
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
@@ -113,15 +131,17 @@ class OutputFile {
   void append_body_probe(const std::string& name, const BodyProbeRecord& r);
   void append_boundary(const std::string& name, const BoundaryRecord& r);
 
-  // Writes frame K (K = 0, 1, ...) to its file, commits (OUT.h5 lists /frames/K and the buffered
-  // history), updates the .xdmf beside the file.
+  // Writes frame K (K = 0, 1, ...) to its file and commits if a commit is due (see above): then
+  // OUT.h5 lists /frames/K and the buffered history, and the .xdmf beside it shows the frame.
   void write_frame(const FrameData& f);
-  // Commits the buffered history/probe rows (OUT.h5 rewritten whole and renamed into place).
+  // Commits now: every frame written and every buffered row.
   void flush();
-  // Final /run attributes (steps, wall_seconds, status: "completed", "failed: ...", ...),
-  // the last commit, with every frame copied into OUT.h5 (one self-contained file; the frame
-  // files are removed). Safe to call once; the destructor commits without these otherwise.
-  void finish(long steps, double wall_seconds, const std::string& status);
+  // Final /run attributes (steps, wall_seconds and the parts of `times`, status: "completed",
+  // "failed: ...", ...), the last commit, with every frame copied into OUT.h5 (one
+  // self-contained file; the frame files are removed). The time of this call is added to
+  // times.wall and times.output in the attributes. Safe to call once; the destructor commits
+  // without these otherwise.
+  void finish(long steps, const RunTimes& times, const std::string& status);
 
   // After an I/O error (IoError): writes nothing more, not even from the destructor, and removes
   // the temporary files. OUT.h5 (with OUT.h5.frames) stays as the last commit left it.
@@ -131,6 +151,11 @@ class OutputFile {
 
   const std::string& path() const;
   int frames_written() const;
+  int frames_committed() const;  // frames OUT.h5 lists (after an I/O error: what it holds)
+  int commits() const;           // commits so far (OUT.h5 written and renamed into place)
+  // Wall time (s) spent inside write_frame and finish, and in the last finish alone.
+  double write_seconds() const;
+  double finish_seconds() const;
 
  private:
   struct Impl;

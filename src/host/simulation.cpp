@@ -12,6 +12,7 @@
 #include "host/checkpoint.hpp"
 #include "kernels/energy.hpp"
 #include "kernels/fragments.hpp"
+#include "kernels/frame.hpp"
 #include "kernels/integrate.hpp"
 #include "kernels/loads.hpp"
 
@@ -577,86 +578,100 @@ std::vector<BodyProbeRecord> Simulation::body_probe_records() {
   return out;
 }
 
-FrameData Simulation::frame(const std::vector<std::string>& fields) {
+namespace {
+// Host backends: the packing kernels write the frame's vectors themselves. Device backends: they
+// write reused device buffers, copied to the vectors afterwards.
+constexpr bool kFrameOnHost = Kokkos::SpaceAccessibility<ExecSpace, HostSpace>::accessible;
+
+// Sizes `values` to n entries (keeping its capacity) and returns the array the packing writes.
+template <class T>
+FrameArray<T> frame_array(std::vector<T>& values, std::size_t n, std::vector<View<T*>>& buffers,
+                          std::size_t& used) {
+  values.resize(n);
+  if constexpr (kFrameOnHost) {
+    return FrameArray<T>(values.data(), n);
+  } else {
+    if (used == buffers.size()) buffers.emplace_back();
+    View<T*>& buffer = buffers[used++];
+    if (buffer.extent(0) < n)
+      buffer = View<T*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::frame_buffer"),
+                        n + n / 2);
+    return FrameArray<T>(buffer.data(), n);
+  }
+}
+
+template <class T>
+void copy_to_host(std::vector<T>& values, const FrameArray<T>& packed) {
+  if constexpr (!kFrameOnHost)
+    Kokkos::deep_copy(
+        Kokkos::View<T*, HostSpace, Kokkos::MemoryUnmanaged>(values.data(), values.size()), packed);
+}
+}  // namespace
+
+const FrameData& Simulation::frame(const std::vector<std::string>& fields) {
   finish_kick();
-  FrameData f;
+  FrameData& f = frame_;
   f.time = time();
   f.step = steps();
   f.fields = fields;
   const Nodes& n = model_.nodes;
-  const Elements& el = model_.elements;
-  auto x = Kokkos::create_mirror_view_and_copy(HostSpace(), n.x);
-  auto x0 = Kokkos::create_mirror_view_and_copy(HostSpace(), n.x0);
-  auto v = Kokkos::create_mirror_view_and_copy(HostSpace(), n.v);
-  f.node_position.resize(2 * n.count);
-  f.node_displacement.resize(2 * n.count);
-  f.node_velocity.resize(2 * n.count);
-  for (int i = 0; i < n.count; ++i)
-    for (int d = 0; d < 2; ++d) {
-      f.node_position[2 * i + d] = x(i, d);
-      f.node_displacement[2 * i + d] = x(i, d) - x0(i, d);
-      f.node_velocity[2 * i + d] = v(i, d);
-    }
-  auto active = Kokkos::create_mirror_view_and_copy(HostSpace(), el.active);
-  auto conn = Kokkos::create_mirror_view_and_copy(HostSpace(), el.nodes);
-  auto body = Kokkos::create_mirror_view_and_copy(HostSpace(), el.body);
-  auto stress = Kokkos::create_mirror_view_and_copy(HostSpace(), el.stress);
-  auto epeq = Kokkos::create_mirror_view_and_copy(HostSpace(), el.epeq);
-  const int qp = el.qp_per_element;
-  for (int i = 0; i < el.active_count; ++i) {
-    const int e = active(i);
-    for (int a = 0; a < 4; ++a) f.element_nodes.push_back(conn(e, a));
-    f.element_id.push_back(e);
-    f.element_body.push_back(body(e));
-    double s[4] = {0, 0, 0, 0}, ep = 0;
-    for (int g = 0; g < qp; ++g) {
-      for (int k = 0; k < 4; ++k) s[k] += stress(e * qp + g, k) / qp;
-      ep += epeq(e * qp + g) / qp;
-    }
-    f.element_stress.insert(f.element_stress.end(), s, s + 4);
-    f.element_plastic_strain.push_back(ep);
-    f.element_pressure.push_back(-(s[0] + s[1] + s[2]) / 3.0);
-    f.element_von_mises.push_back(
-        std::sqrt(0.5 * ((s[0] - s[1]) * (s[0] - s[1]) + (s[1] - s[2]) * (s[1] - s[2]) +
-                         (s[2] - s[0]) * (s[2] - s[0])) +
-                  3.0 * s[3] * s[3]));
-  }
-  {
-    // Fragments: connected components over active bonds and alive elements.
-    if (fragments_.labels.extent(0) < static_cast<size_t>(n.count))
-      fragments_ = FragmentWorkspace(n.count);
-    const FragmentStats st = fragment_statistics(n, el, model_.bonds, fragments_);
-    f.fragment_mass = st.masses;
-    f.fragment_size = st.sizes;
-    auto labels = Kokkos::create_mirror_view_and_copy(HostSpace(), fragments_.labels);
-    f.node_fragment.assign(labels.data(), labels.data() + n.count);
-  }
-  if (n.has_particles()) {
-    auto particle = Kokkos::create_mirror_view_and_copy(HostSpace(), n.particle);
-    auto radius = Kokkos::create_mirror_view_and_copy(HostSpace(), n.radius);
-    auto rotation = Kokkos::create_mirror_view_and_copy(HostSpace(), n.rotation);
-    auto spin = Kokkos::create_mirror_view_and_copy(HostSpace(), n.spin);
-    for (int i = 0; i < n.count; ++i)
-      if (particle(i)) {
-        f.particle_node.push_back(i);
-        f.particle_radius.push_back(radius(i));
-        f.particle_rotation.push_back(rotation(i));
-        f.particle_spin.push_back(spin(i));
-      }
-    const Bonds& b = model_.bonds;
-    auto state = Kokkos::create_mirror_view_and_copy(HostSpace(), b.state);
-    auto ends = Kokkos::create_mirror_view_and_copy(HostSpace(), b.nodes);
-    auto fn = Kokkos::create_mirror_view_and_copy(HostSpace(), b.fn);
-    auto damage = Kokkos::create_mirror_view_and_copy(HostSpace(), b.damage);
-    for (int k = 0; k < b.count; ++k)
-      if (state(k) != kBondInactive) {
-        f.bond_nodes.push_back(ends(k, 0));
-        f.bond_nodes.push_back(ends(k, 1));
-        f.bond_state.push_back(state(k));
-        f.bond_normal_force.push_back(fn(k));
-        f.bond_damage.push_back(state(k) == kBondBroken ? 1.0 : damage(k));
-      }
-  }
+  const FrameCounts c = count_frame(n, model_.elements, model_.bonds);
+  std::size_t reals = 0, ints = 0;
+  auto real = [&](std::vector<double>& values, std::size_t size) {
+    return frame_array(values, size, frame_real_buffers_, reals);
+  };
+  auto integer = [&](std::vector<int>& values, std::size_t size) {
+    return frame_array(values, size, frame_int_buffers_, ints);
+  };
+  FrameViews v;
+  v.node_position = real(f.node_position, 2 * c.nodes);
+  v.node_displacement = real(f.node_displacement, 2 * c.nodes);
+  v.node_velocity = real(f.node_velocity, 2 * c.nodes);
+  v.element_nodes = integer(f.element_nodes, 4 * c.elements);
+  v.element_id = integer(f.element_id, c.elements);
+  v.element_body = integer(f.element_body, c.elements);
+  v.element_stress = real(f.element_stress, 4 * c.elements);
+  v.element_plastic_strain = real(f.element_plastic_strain, c.elements);
+  v.element_pressure = real(f.element_pressure, c.elements);
+  v.element_von_mises = real(f.element_von_mises, c.elements);
+  v.particle_node = integer(f.particle_node, c.discs);
+  v.particle_radius = real(f.particle_radius, c.discs);
+  v.particle_rotation = real(f.particle_rotation, c.discs);
+  v.particle_spin = real(f.particle_spin, c.discs);
+  v.bond_nodes = integer(f.bond_nodes, 2 * c.bonds);
+  v.bond_state = integer(f.bond_state, c.bonds);
+  v.bond_normal_force = real(f.bond_normal_force, c.bonds);
+  v.bond_damage = real(f.bond_damage, c.bonds);
+  pack_frame(n, model_.elements, model_.bonds, v);
+  Kokkos::fence();
+  copy_to_host(f.node_position, v.node_position);
+  copy_to_host(f.node_displacement, v.node_displacement);
+  copy_to_host(f.node_velocity, v.node_velocity);
+  copy_to_host(f.element_nodes, v.element_nodes);
+  copy_to_host(f.element_id, v.element_id);
+  copy_to_host(f.element_body, v.element_body);
+  copy_to_host(f.element_stress, v.element_stress);
+  copy_to_host(f.element_plastic_strain, v.element_plastic_strain);
+  copy_to_host(f.element_pressure, v.element_pressure);
+  copy_to_host(f.element_von_mises, v.element_von_mises);
+  copy_to_host(f.particle_node, v.particle_node);
+  copy_to_host(f.particle_radius, v.particle_radius);
+  copy_to_host(f.particle_rotation, v.particle_rotation);
+  copy_to_host(f.particle_spin, v.particle_spin);
+  copy_to_host(f.bond_nodes, v.bond_nodes);
+  copy_to_host(f.bond_state, v.bond_state);
+  copy_to_host(f.bond_normal_force, v.bond_normal_force);
+  copy_to_host(f.bond_damage, v.bond_damage);
+  // Fragments: connected components over active bonds and alive elements.
+  if (fragments_.labels.extent(0) < static_cast<size_t>(n.count))
+    fragments_ = FragmentWorkspace(n.count);
+  const FragmentStats st = fragment_statistics(n, model_.elements, model_.bonds, fragments_);
+  f.fragment_mass = st.masses;
+  f.fragment_size = st.sizes;
+  f.node_fragment.resize(n.count);
+  Kokkos::deep_copy(Kokkos::View<int*, HostSpace, Kokkos::MemoryUnmanaged>(f.node_fragment.data(),
+                                                                           f.node_fragment.size()),
+                    Kokkos::subview(fragments_.labels, std::make_pair(0, n.count)));
   return f;
 }
 
@@ -755,9 +770,29 @@ int run_case(const Case& c, const RunOptions& opt) {
                  std::chrono::duration<double>(clock::now() - read0).count());
   }
   const RunInfo info = run_info(c);
-  OutputFile out(path, info);
+  OutputFile out(path, info, FrameStorage{c.output.single_precision, c.output.compression});
   declare_probes(out, sim);
-  auto record = [&]() { return record_history(out, sim); };
+  // Wall time of the run's parts (/run attributes, the summary line): what the output costs.
+  RunTimes times;
+  auto timed = [&](double& total, auto&& work) {
+    const auto start = clock::now();
+    struct Add {  // also when `work` throws
+      double& total;
+      clock::time_point start;
+      ~Add() { total += std::chrono::duration<double>(clock::now() - start).count(); }
+    } add{total, start};
+    return work();
+  };
+  auto record = [&]() { return timed(times.history, [&] { return record_history(out, sim); }); };
+  auto write_frame = [&]() {
+    timed(times.output, [&] { out.write_frame(sim.frame(c.output.fields)); });
+  };
+  auto finish = [&](const std::string& status) {
+    times.wall = std::chrono::duration<double>(clock::now() - wall0).count();
+    out.finish(sim.steps(), times, status);
+    times.wall += out.finish_seconds();
+    times.output += out.finish_seconds();
+  };
 
   const double end = c.sim.end_time;
   const double eps = 1e-12 * end;
@@ -774,7 +809,7 @@ int run_case(const Case& c, const RunOptions& opt) {
   advance(next_history, history_every);
   advance(next_checkpoint, checkpoint_every);
   HistoryRecord last = record();
-  out.write_frame(sim.frame(c.output.fields));
+  write_frame();
   long last_frame_step = sim.steps(), last_checkpoint_step = -1;
   // The failure snapshot is the last state that passed the checks of a history row (finite
   // energies, the energy error below its limit), taken at most every snapshot_every steps: a
@@ -783,10 +818,12 @@ int run_case(const Case& c, const RunOptions& opt) {
   long last_snapshot_step = sim.steps();
   const std::string checkpoint_path = checkpoint_path_for(path);
   auto checkpoint = [&]() {
-    out.flush();  // the output holds every history row up to the checkpoint
-    const CheckpointInfo ci{FRACTA_VERSION, c.text,     c.path,     c.overrides,
-                            path,           sim.time(), sim.steps()};
-    write_checkpoint(sim, checkpoint_path, ci);
+    timed(times.checkpoint, [&] {
+      out.flush();  // the output holds every history row up to the checkpoint
+      const CheckpointInfo ci{FRACTA_VERSION, c.text,     c.path,     c.overrides,
+                              path,           sim.time(), sim.steps()};
+      write_checkpoint(sim, checkpoint_path, ci);
+    });
     last_checkpoint_step = sim.steps();
   };
   const StopSignals stop_signals;
@@ -848,7 +885,7 @@ int run_case(const Case& c, const RunOptions& opt) {
         checked = true;
       }
       if (sim.time() >= next_frame - eps || at_end) {
-        out.write_frame(sim.frame(c.output.fields));
+        write_frame();
         last_frame_step = sim.steps();
         advance(next_frame, frame_every);
       }
@@ -864,13 +901,10 @@ int run_case(const Case& c, const RunOptions& opt) {
       progress(false);
       if (StopSignals::received()) break;
     }
-    const double wall = std::chrono::duration<double>(clock::now() - wall0).count();
     if (!internal_error.empty()) {
       sim.restore_snapshot();
-      out.write_frame(sim.frame(c.output.fields));
-      out.finish(
-          sim.steps(), wall,
-          "failed: internal error: " + internal_error + "; last frame is the last good state");
+      write_frame();
+      finish("failed: internal error: " + internal_error + "; last frame is the last good state");
       if (opt.progress_on_terminal) std::fprintf(stdout, "\n");
       std::fprintf(stderr,
                    "fracta: internal error: %s\nfracta: wrote the last good state (t = %.6g s, "
@@ -881,8 +915,8 @@ int run_case(const Case& c, const RunOptions& opt) {
     if (sim.failed()) {
       const std::string why = sim.failure();
       sim.restore_snapshot();
-      out.write_frame(sim.frame(c.output.fields));
-      out.finish(sim.steps(), wall, "failed: " + why + "; last frame is the last good state");
+      write_frame();
+      finish("failed: " + why + "; last frame is the last good state");
       if (opt.progress_on_terminal) std::fprintf(stdout, "\n");
       std::fprintf(stderr,
                    "fracta: numerical failure: %s\nfracta: wrote the last good state (t = %.6g s, "
@@ -894,9 +928,9 @@ int run_case(const Case& c, const RunOptions& opt) {
       // Stopped between two steps: the state is consistent. Keep it (checkpoint) and end the
       // output with it (final frame), closed and flushed.
       if (last_checkpoint_step != sim.steps()) checkpoint();
-      if (last_frame_step != sim.steps()) out.write_frame(sim.frame(c.output.fields));
+      if (last_frame_step != sim.steps()) write_frame();
       const char* name = signal == SIGINT ? "SIGINT" : "SIGTERM";
-      out.finish(sim.steps(), wall, std::string("interrupted by ") + name);
+      finish(std::string("interrupted by ") + name);
       if (opt.progress_on_terminal) std::fprintf(stdout, "\n");
       std::fprintf(
           stderr,
@@ -908,14 +942,23 @@ int run_case(const Case& c, const RunOptions& opt) {
       return 128 + signal;
     }
     progress(true);
-    out.finish(sim.steps(), wall, "completed");
+    finish("completed");
     if (!out.frames_consolidated())
       std::fprintf(stderr,
                    "fracta: not enough space to copy the frames into %s: they stay in %s.frames, "
                    "which must be kept beside it\n",
                    path.c_str(), path.c_str());
-    std::fprintf(stdout, "fracta: completed %ld steps in %.2f s; output %s\n", sim.steps(), wall,
-                 path.c_str());
+    std::fprintf(stdout, "fracta: completed %ld steps in %.2f s; output %s\n", sim.steps(),
+                 times.wall, path.c_str());
+    const double stepping = times.wall - times.output - times.history - times.checkpoint;
+    std::fprintf(stdout,
+                 "fracta: wall time: stepping %.2f s, frames %.2f s (%d frames, %.3g ms each; "
+                 "gathering %.2f s, files %.2f s, final copy %.2f s), history %.2f s, "
+                 "checkpoints %.2f s\n",
+                 stepping, times.output, out.frames_written(),
+                 1e3 * times.output / std::max(out.frames_written(), 1),
+                 times.output - out.write_seconds(), out.write_seconds() - out.finish_seconds(),
+                 out.finish_seconds(), times.history, times.checkpoint);
     return 0;
   } catch (const IoError& e) {
     out.abandon();
@@ -923,9 +966,9 @@ int run_case(const Case& c, const RunOptions& opt) {
     std::fprintf(
         stderr,
         "fracta: I/O error: %s\nfracta: stopped at t = %.6g s (step %ld). %s holds "
-        "%d frames and the history up to the last of them (its frames in %s.frames, "
+        "%d frames and the history up to its last commit (its frames in %s.frames, "
         "kept beside it)%s%s\n",
-        e.what(), sim.time(), sim.steps(), path.c_str(), out.frames_written(), path.c_str(),
+        e.what(), sim.time(), sim.steps(), path.c_str(), out.frames_committed(), path.c_str(),
         last_checkpoint_step >= 0 ? "; the checkpoint " : "",
         last_checkpoint_step >= 0
             ? (checkpoint_path + " holds step " + std::to_string(last_checkpoint_step)).c_str()

@@ -43,7 +43,9 @@ class Simulation {
   std::vector<ProbeRecord> probe_records();
   std::vector<BodyProbeRecord> body_probe_records();
   std::vector<BoundaryRecord> boundary_records();  // the named boundaries, in case order
-  FrameData frame(const std::vector<std::string>& fields);
+  // The current state as a frame. The arrays are reused from frame to frame (no page faults of
+  // fresh arrays): the reference is valid until the next call.
+  const FrameData& frame(const std::vector<std::string>& fields);
 
   // The last good state, kept so a numerical failure can still write it.
   void save_snapshot();
@@ -93,6 +95,11 @@ class Simulation {
   View<int*> probe_node_, probe_element_;
   View<double* [7]> probe_values_;
   FragmentWorkspace fragments_;
+  FrameData frame_;  // the last frame(), its arrays kept for the next
+  // Device buffers the frame is packed into where the kernels cannot write host memory (GPUs),
+  // by type in FrameViews order; grown, never shrunk.
+  std::vector<View<double*>> frame_real_buffers_;
+  std::vector<View<int*>> frame_int_buffers_;
   View<double*[3]> contact_force_, contact_force_prev_;
   StableDtWorkspace stable_dt_;  // bond_stable_dt without allocations, per-particle cache
   // Counts the adaptive elements the FE kernel flagged for conversion since the last one;

@@ -391,13 +391,15 @@ TEST(Checkpoint, RestartRefusesModelChangesAndBadCheckpointsAndKeepsTheOldOutput
 // --- signals --------------------------------------------------------------------------------
 
 // Starts `fracta ARGS` (one thread, stdout and stderr to `log`) without waiting.
-pid_t spawn(const std::vector<std::string>& args, const std::string& log) {
+pid_t spawn(const std::vector<std::string>& args, const std::string& log,
+            const std::vector<std::string>& extra_env = {}) {
   std::vector<std::string> argv_s{FRACTA_EXE};
   argv_s.insert(argv_s.end(), args.begin(), args.end());
   std::vector<char*> argv;
   for (auto& a : argv_s) argv.push_back(a.data());
   argv.push_back(nullptr);
   std::vector<std::string> env_s{"OMP_NUM_THREADS=1"};
+  env_s.insert(env_s.end(), extra_env.begin(), extra_env.end());
   for (char** e = environ; *e; ++e)
     if (std::strncmp(*e, "OMP_NUM_THREADS=", 16) != 0) env_s.emplace_back(*e);
   std::vector<char*> envp;
@@ -428,8 +430,9 @@ bool wait_for_file(const std::string& path, pid_t pid) {
 // started or had already ended (not a kill mid-run).
 ::testing::AssertionResult kill_run_after(const std::vector<std::string>& args,
                                           const std::string& file, int delay_ms,
-                                          const std::string& log) {
-  const pid_t pid = spawn(args, log);
+                                          const std::string& log,
+                                          const std::vector<std::string>& extra_env = {}) {
+  const pid_t pid = spawn(args, log, extra_env);
   if (pid <= 0) return ::testing::AssertionFailure() << "cannot spawn fracta";
   if (!wait_for_file(file, pid))
     return ::testing::AssertionFailure() << file << " never appeared: " << slurp(log);
@@ -506,50 +509,72 @@ TEST(Checkpoint, SigintAndSigtermWriteACheckpointAndACompleteOutput) {
 // SIGKILL cannot be handled: what was flushed must survive on its own. The run writes a frame
 // every step (so most of its time is spent inside HDF5 writes, where a kill is most harmful)
 // and is killed at several instants; each time the file must open and every frame it lists
-// must read in full, with the history holding at least one row per frame.
+// must read in full, with the history holding at least one row per frame, and the .xdmf must be
+// whole and show only listed frames. Each instant twice: with the default commit spacing, and
+// with a commit at every frame (the FRACTA_COMMIT_EVERY_FRAME hook), so that kills land inside
+// commits as often as inside frame files.
 TEST(Checkpoint, SigkillLeavesAReadableOutputWithEveryListedFrame) {
   const std::string dir = scratch("sigkill");
-  int killed_with_frames = 0;
-  for (int delay_ms : {20, 60, 120, 200, 300, 450}) {
-    const std::string out = dir + "/kill" + std::to_string(delay_ms) + ".h5";
-    std::vector<std::string> args{"run",
-                                  kScene,
-                                  "-o",
-                                  out,
-                                  "--set",
-                                  "simulation.end_time=1e-3",
-                                  "simulation.output_interval=1e-9",
-                                  "simulation.history_interval=1e-9",  // below dt: every step
-                                  "output.checkpoint_interval=0"};
-    ASSERT_TRUE(kill_run_after(args, out, delay_ms, out + ".log"));
+  int killed_with_frames[2] = {0, 0};
+  for (int every_frame = 0; every_frame < 2; ++every_frame)
+    for (int delay_ms : {20, 60, 120, 200, 300, 450, 700, 1000}) {
+      const std::string out =
+          dir + "/kill" + std::to_string(delay_ms) + (every_frame ? "_every" : "") + ".h5";
+      std::vector<std::string> args{"run",
+                                    kScene,
+                                    "-o",
+                                    out,
+                                    "--set",
+                                    "simulation.end_time=1e-3",
+                                    "simulation.output_interval=1e-9",
+                                    "simulation.history_interval=1e-9",  // below dt: every step
+                                    "output.checkpoint_interval=0"};
+      ASSERT_TRUE(kill_run_after(args, out, delay_ms, out + ".log",
+                                 every_frame
+                                     ? std::vector<std::string>{"FRACTA_COMMIT_EVERY_FRAME=1"}
+                                     : std::vector<std::string>{}));
 
-    H5File f(out);
-    ASSERT_GE(f.id, 0) << out << " does not open after SIGKILL at " << delay_ms << " ms";
-    const long frames = frame_count(f.id);
-    ASSERT_GE(frames, 0) << out;
-    // At most the frame being written when killed lies beyond the count.
-    hsize_t links = 0;
-    {
-      const hid_t g = H5Gopen2(f.id, "/frames", H5P_DEFAULT);
-      H5Gget_num_objs(g, &links);
-      H5Gclose(g);
+      H5File f(out);
+      ASSERT_GE(f.id, 0) << out << " does not open after SIGKILL at " << delay_ms << " ms";
+      const long frames = frame_count(f.id);
+      ASSERT_GE(frames, 0) << out;
+      // Exactly the listed frames are linked.
+      hsize_t links = 0;
+      {
+        const hid_t g = H5Gopen2(f.id, "/frames", H5P_DEFAULT);
+        H5Gget_num_objs(g, &links);
+        H5Gclose(g);
+      }
+      EXPECT_EQ(static_cast<long>(links), frames) << out;
+      std::vector<double> v;
+      for (long k = 0; k < frames; ++k) {
+        // Every listed frame is complete: all 21 datasets of this scene's frames (time, step,
+        // 3 node, 5 element, 4 disc, 4 bond, 3 fragment arrays) are there and read.
+        const auto names = datasets_under(f.id, "/frames/" + std::to_string(k));
+        EXPECT_EQ(names.size(), 21u) << out << ": frame " << k;
+        for (const std::string& name : names)
+          EXPECT_TRUE(read_doubles(f.id, name, v)) << out << ": " << name;
+      }
+      const auto time = doubles(f.id, "/history/time");
+      EXPECT_GE(static_cast<long>(time.size()), frames) << out;
+      // The .xdmf, once there (it follows the first commit of a frame), is whole and shows no
+      // frame beyond the listed ones.
+      const std::string xdmf_path =
+          dir + "/kill" + std::to_string(delay_ms) + (every_frame ? "_every" : "") + ".xdmf";
+      if (fs::exists(xdmf_path)) {
+        const std::string xdmf = slurp(xdmf_path), tail = "</Xdmf>\n";
+        EXPECT_TRUE(xdmf.size() >= tail.size() &&
+                    xdmf.compare(xdmf.size() - tail.size(), tail.size(), tail) == 0)
+            << xdmf_path;
+        EXPECT_EQ(xdmf.find(":/frames/" + std::to_string(frames) + "/"), std::string::npos)
+            << xdmf_path;
+      }
+      if (frames >= 2) ++killed_with_frames[every_frame];
     }
-    EXPECT_GE(static_cast<long>(links), frames) << out;
-    EXPECT_LE(static_cast<long>(links), frames + 1) << out;
-    std::vector<double> v;
-    for (long k = 0; k < frames; ++k) {
-      // Every listed frame is complete: all 21 datasets of this scene's frames (time, step,
-      // 3 node, 5 element, 4 disc, 4 bond, 3 fragment arrays) are there and read.
-      const auto names = datasets_under(f.id, "/frames/" + std::to_string(k));
-      EXPECT_EQ(names.size(), 21u) << out << ": frame " << k;
-      for (const std::string& name : names)
-        EXPECT_TRUE(read_doubles(f.id, name, v)) << out << ": " << name;
-    }
-    const auto time = doubles(f.id, "/history/time");
-    EXPECT_GE(static_cast<long>(time.size()), frames) << out;
-    if (frames >= 2) ++killed_with_frames;
-  }
-  EXPECT_GE(killed_with_frames, 4);  // the kills did land mid-run, after frames were written
+  // The kills did land mid-run, after frames were written.
+  // (Spaced commits list fewer frames early on, the more so on a loaded machine.)
+  EXPECT_GE(killed_with_frames[0], 2);
+  EXPECT_GE(killed_with_frames[1], 5);
 }
 
 // A crash while a checkpoint is being written must leave the previous one intact (write to

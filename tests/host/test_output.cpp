@@ -1,5 +1,6 @@
 // HDF5 output (docs/output.md): layout and exact values read back with the HDF5 C API, the
-// .xdmf's references, empty frames, and a run killed with SIGKILL after two frames.
+// .xdmf's references, empty frames, float32 and deflated frames, the commit schedule, and a run
+// killed with SIGKILL after two frames.
 //
 // Set FRACTA_KEEP_OUTPUT_TEST=1 to keep the files (the test prints where they are).
 #include "host/output.hpp"
@@ -10,6 +11,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -17,7 +19,10 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
+
+#include "cli_util.hpp"
 
 namespace fracta {
 namespace {
@@ -112,6 +117,9 @@ void add_discs(FrameData& f, int count, const std::vector<int>& broken) {
       f.bond_damage.push_back(is_broken ? 1.0 : 0.01 * k);
     }
 }
+
+// Frames in float64, unfiltered: every value reads back exactly.
+const FrameStorage kDouble{false, 0};
 
 RunInfo run_info(std::string case_text = "[simulation]\ntitle = \"output test\"\n") {
   RunInfo info;
@@ -248,11 +256,18 @@ class OutputFileTest : public ::testing::Test {
   int check_xdmf_references(hid_t file) const {
     const std::string text = slurp(xdmf_);
     const std::regex item(
-        R"re(<DataItem Dimensions="([0-9 ]+)"[^>]*Format="HDF">([^<:]+):([^<]+)</DataItem>)re");
+        R"re(<DataItem Dimensions="([0-9 ]+)" NumberType="(\w+)" Precision="(\d)" )re"
+        R"re(Format="HDF">([^<:]+):([^<]+)</DataItem>)re");
     int count = 0;
     for (auto it = std::sregex_iterator(text.begin(), text.end(), item);
          it != std::sregex_iterator(); ++it, ++count) {
-      const std::string dims_text = (*it)[1], file_name = (*it)[2], path = (*it)[3];
+      const std::string dims_text = (*it)[1], number_type = (*it)[2], file_name = (*it)[4],
+                        path = (*it)[5];
+      const size_t precision = std::stoul((*it)[3]);
+      // The declared type is the stored one (ParaView reads the bytes as declared).
+      EXPECT_EQ(type_of(file, path),
+                std::make_pair(number_type == "Float" ? H5T_FLOAT : H5T_INTEGER, precision))
+          << path;
       EXPECT_EQ(file_name, "out.h5");
       EXPECT_TRUE(exists(file, path)) << path;
       EXPECT_GT(H5Oexists_by_name(file, path.c_str(), H5P_DEFAULT), 0) << path;
@@ -267,23 +282,31 @@ class OutputFileTest : public ::testing::Test {
   std::string dir_, h5_, xdmf_;
 };
 
+// `single`: a floating-point array stored as float32 reads back as each value rounded to float.
 template <class T>
 void expect_frame_array(hid_t file, const std::string& path, const std::vector<T>& want,
-                        std::vector<hsize_t> dims) {
+                        std::vector<hsize_t> dims, bool single = false) {
   EXPECT_EQ(dims_of(file, path), dims) << path;
-  EXPECT_EQ(read<T>(file, path), want) << path;
+  std::vector<T> stored = want;
+  if constexpr (std::is_floating_point_v<T>) {
+    if (single)
+      for (T& v : stored) v = static_cast<T>(static_cast<float>(v));
+    EXPECT_EQ(type_of(file, path), std::make_pair(H5T_FLOAT, single ? size_t{4} : size_t{8}))
+        << path;
+  }
+  EXPECT_EQ(read<T>(file, path), stored) << path;
 }
 
-void expect_frame(hid_t file, int k, const FrameData& f) {
+void expect_frame(hid_t file, int k, const FrameData& f, bool single = false) {
   const std::string g = "/frames/" + std::to_string(k);
   const hsize_t n = f.node_position.size() / 2, m = f.element_nodes.size() / 4;
   EXPECT_EQ(read_attribute<double>(file, g, "time"), f.time);
   EXPECT_EQ(read_attribute<std::int64_t>(file, g, "step"), f.step);
   EXPECT_EQ(read<double>(file, g + "/time"), std::vector<double>{f.time});
   EXPECT_TRUE(dims_of(file, g + "/time").empty());  // scalar
-  expect_frame_array(file, g + "/node_position", f.node_position, {n, 2});
-  expect_frame_array(file, g + "/node_displacement", f.node_displacement, {n, 2});
-  expect_frame_array(file, g + "/node_velocity", f.node_velocity, {n, 2});
+  expect_frame_array(file, g + "/node_position", f.node_position, {n, 2}, single);
+  expect_frame_array(file, g + "/node_displacement", f.node_displacement, {n, 2}, single);
+  expect_frame_array(file, g + "/node_velocity", f.node_velocity, {n, 2}, single);
   expect_frame_array(file, g + "/element_nodes", f.element_nodes, {m, 4});
   expect_frame_array(file, g + "/element_id", f.element_id, {m});
   expect_frame_array(file, g + "/element_body", f.element_body, {m});
@@ -313,23 +336,21 @@ void expect_frame(hid_t file, int k, const FrameData& f) {
       continue;
     }
     expect_frame_array(file, path, *o.data,
-                       o.width == 1 ? std::vector<hsize_t>{m} : std::vector<hsize_t>{m, o.width});
+                       o.width == 1 ? std::vector<hsize_t>{m} : std::vector<hsize_t>{m, o.width},
+                       single);
   }
   // Discs and bonds: always written, zero-size in a pure-FE frame.
   const hsize_t p = f.particle_node.size(), b = f.bond_nodes.size() / 2;
   expect_frame_array(file, g + "/particle_node", f.particle_node, {p});
-  expect_frame_array(file, g + "/particle_radius", f.particle_radius, {p});
-  expect_frame_array(file, g + "/particle_rotation", f.particle_rotation, {p});
-  expect_frame_array(file, g + "/particle_spin", f.particle_spin, {p});
+  expect_frame_array(file, g + "/particle_radius", f.particle_radius, {p}, single);
+  expect_frame_array(file, g + "/particle_rotation", f.particle_rotation, {p}, single);
+  expect_frame_array(file, g + "/particle_spin", f.particle_spin, {p}, single);
   expect_frame_array(file, g + "/bond_nodes", f.bond_nodes, {b, 2});
   expect_frame_array(file, g + "/bond_state", f.bond_state, {b});
-  expect_frame_array(file, g + "/bond_normal_force", f.bond_normal_force, {b});
-  expect_frame_array(file, g + "/bond_damage", f.bond_damage, {b});
+  expect_frame_array(file, g + "/bond_normal_force", f.bond_normal_force, {b}, single);
+  expect_frame_array(file, g + "/bond_damage", f.bond_damage, {b}, single);
   for (const char* name : {"particle_node", "bond_nodes", "bond_state"})
     EXPECT_EQ(type_of(file, g + "/" + name), std::make_pair(H5T_INTEGER, size_t{4})) << name;
-  for (const char* name : {"particle_radius", "particle_rotation", "particle_spin",
-                           "bond_normal_force", "bond_damage"})
-    EXPECT_EQ(type_of(file, g + "/" + name), std::make_pair(H5T_FLOAT, size_t{8})) << name;
 }
 
 // Number of matches of `pattern` in `text`.
@@ -404,7 +425,7 @@ TEST_F(OutputFileTest, WritesEveryDatasetOfTheContract) {
   const long frame_after[] = {100, 200, 250};  // frame k is written after that many rows
   const long rows = 300, probe_rows = 120, body_rows = 80;
   {
-    OutputFile out(h5_, run_info());
+    OutputFile out(h5_, run_info(), kDouble);
     EXPECT_EQ(out.path(), h5_);
     out.declare_probe("tip");
     out.declare_body_probe("projectile");
@@ -416,8 +437,9 @@ TEST_F(OutputFileTest, WritesEveryDatasetOfTheContract) {
       if (k < 3 && i + 1 == frame_after[k]) out.write_frame(frames[k++]);
     }
     EXPECT_EQ(out.frames_written(), 3);
-    out.finish(rows, 1.5, "completed");
-    out.finish(rows, 2.5, "twice");  // a second finish is a no-op
+    out.finish(rows, RunTimes{1.5, 0.25, 0.125, 0.0625}, "completed");
+    out.finish(rows, RunTimes{2.5, 0, 0, 0}, "twice");  // a second finish is a no-op
+    EXPECT_EQ(out.frames_committed(), 3);
   }
 
   H5Id file{open_file(), H5Fclose};
@@ -428,8 +450,16 @@ TEST_F(OutputFileTest, WritesEveryDatasetOfTheContract) {
   EXPECT_EQ(read_attribute<std::string>(file.id, "/run", "case"), run_info().case_text);
   EXPECT_EQ(read_attribute<std::string>(file.id, "/run", "case_path"), "cases/output_test.toml");
   EXPECT_EQ(read_attribute<std::int64_t>(file.id, "/run", "steps"), rows);
-  EXPECT_EQ(read_attribute<double>(file.id, "/run", "wall_seconds"), 1.5);
+  // The times given, plus finish()'s own time (the last commit) for the wall and the output.
+  const double wall = read_attribute<double>(file.id, "/run", "wall_seconds");
+  EXPECT_GE(wall, 1.5);
+  EXPECT_LT(wall, 1.5 + 10.0);
+  EXPECT_NEAR(read_attribute<double>(file.id, "/run", "output_seconds") - 0.25, wall - 1.5, 1e-12);
+  EXPECT_EQ(read_attribute<double>(file.id, "/run", "history_seconds"), 0.125);
+  EXPECT_EQ(read_attribute<double>(file.id, "/run", "checkpoint_seconds"), 0.0625);
   EXPECT_EQ(read_attribute<std::string>(file.id, "/run", "status"), "completed");
+  EXPECT_EQ(read_attribute<std::string>(file.id, "/run", "frame_precision"), "double");
+  EXPECT_EQ(read_attribute<std::int64_t>(file.id, "/run", "frame_compression"), 0);
 
   expect_history(file.id, rows);
   for (const char* name : {"time", "ux", "uy", "vx", "vy", "sxx", "syy", "sxy"})
@@ -494,9 +524,9 @@ TEST_F(OutputFileTest, WritesDiscsAndBonds) {
   frames.back().element_id.clear();
   frames.back().element_body.clear();
   {
-    OutputFile out(h5_, run_info());
+    OutputFile out(h5_, run_info(), kDouble);
     for (const FrameData& f : frames) out.write_frame(f);
-    out.finish(500, 0.5, "completed");
+    out.finish(500, RunTimes{0.5}, "completed");
   }
   H5Id file{open_file(), H5Fclose};
   ASSERT_GE(file.id, 0);
@@ -543,11 +573,11 @@ TEST_F(OutputFileTest, EmptyFramesWriteZeroSizeDatasets) {
   none.fields = {"stress", "pressure", "von_mises"};
   const FrameData some = make_frame(1, 1, 3e-6, 30, {"von_mises"});
   {
-    OutputFile out(h5_, run_info());
+    OutputFile out(h5_, run_info(), kDouble);
     out.write_frame(none);
     out.write_frame(no_nodes);  // 1 node, no element
     out.write_frame(some);
-    out.finish(30, 0.1, "completed");
+    out.finish(30, RunTimes{0.1}, "completed");
   }
   H5Id file{open_file(), H5Fclose};
   ASSERT_GE(file.id, 0);
@@ -619,12 +649,90 @@ TEST_F(OutputFileTest, ErrorsNameThePathAndWhatFailed) {
   d.particle_node[0] = -1;
   EXPECT_THROW(out.write_frame(d), std::runtime_error);
   EXPECT_EQ(out.frames_written(), 0);
-  out.finish(0, 0.0, "failed: test");
+  out.finish(0, RunTimes{}, "failed: test");
   EXPECT_THROW(out.append_history(history_row(0)), std::runtime_error);
 }
 
-// A run killed (SIGKILL, no finish, no destructor) after two frames leaves a readable file
-// with both frames and every history row buffered before the second frame.
+// Frames in float32 (the default) and deflated: every array reads back as written (float32:
+// rounded to float), the filters are on the datasets, and the .xdmf declares the stored types.
+TEST_F(OutputFileTest, SinglePrecisionAndDeflatedFramesReadBack) {
+  for (const FrameStorage storage :
+       {FrameStorage{}, FrameStorage{true, 4}, FrameStorage{false, 6}}) {
+    SCOPED_TRACE(std::string(storage.single_precision ? "single" : "double") + ", deflate " +
+                 std::to_string(storage.deflate));
+    std::vector<FrameData> frames;
+    frames.push_back(make_frame(40, 30, 1e-6, 100, {"stress", "von_mises"}));
+    add_discs(frames.back(), 50, {3, 7, 20});
+    frames.push_back(make_frame(0, 0, 2e-6, 200, {"stress"}));  // zero-size arrays
+    {
+      OutputFile out(h5_, run_info(), storage);
+      for (const FrameData& f : frames) out.write_frame(f);
+      out.finish(200, RunTimes{}, "completed");
+    }
+    H5Id file{open_file(), H5Fclose};
+    ASSERT_GE(file.id, 0);
+    for (int k = 0; k < 2; ++k) expect_frame(file.id, k, frames[k], storage.single_precision);
+    EXPECT_EQ(read_attribute<std::string>(file.id, "/run", "frame_precision"),
+              storage.single_precision ? "single" : "double");
+    EXPECT_EQ(read_attribute<std::int64_t>(file.id, "/run", "frame_compression"), storage.deflate);
+    // Shuffle then deflate on every non-empty array of a deflated frame, none otherwise.
+    for (const char* name : {"node_position", "element_nodes", "bond_state", "element_stress"}) {
+      H5Id ds{H5Dopen2(file.id, (std::string("/frames/0/") + name).c_str(), H5P_DEFAULT), H5Dclose};
+      H5Id dcpl{H5Dget_create_plist(ds.id), H5Pclose};
+      const int filters = H5Pget_nfilters(dcpl.id);
+      if (storage.deflate == 0) {
+        EXPECT_EQ(filters, 0) << name;
+        continue;
+      }
+      ASSERT_EQ(filters, 2) << name;
+      unsigned flags = 0, values[4] = {};
+      size_t count = 4;
+      EXPECT_EQ(H5Pget_filter2(dcpl.id, 0, &flags, &count, values, 0, nullptr, nullptr),
+                H5Z_FILTER_SHUFFLE);
+      count = 4;
+      EXPECT_EQ(H5Pget_filter2(dcpl.id, 1, &flags, &count, values, 0, nullptr, nullptr),
+                H5Z_FILTER_DEFLATE);
+      EXPECT_EQ(values[0], static_cast<unsigned>(storage.deflate)) << name;
+    }
+    EXPECT_GT(check_xdmf_references(file.id), 0);
+    file.close(file.id);
+    file.id = -1;
+    fs::remove(h5_);
+  }
+}
+
+// Commits are spaced (output.cpp): frames written back to back commit only now and then, the
+// first frame commits at once, and a frame after a pause commits. What is listed is complete.
+TEST_F(OutputFileTest, CommitsAreSpacedAndAFrameAfterAPauseCommits) {
+  const FrameData f = make_frame(10, 10, 0.0, 0, {"stress"});
+  OutputFile out(h5_, run_info());
+  out.write_frame(f);
+  EXPECT_EQ(out.frames_committed(), 1);  // the first frame is listed at once
+  const int frames = 300;
+  for (int k = 1; k < frames; ++k) out.write_frame(f);
+  EXPECT_EQ(out.frames_written(), frames);
+  // A commit is due once 19 times its duration has passed: back to back, a frame (an HDF5 file
+  // of its own) costs no more than a commit, so at most one frame in 3 commits.
+  EXPECT_LE(out.commits(), 1 + frames / 3) << out.commits() << " commits";
+  std::printf("%d frames back to back: %d commits\n", frames, out.commits());
+  EXPECT_LE(out.frames_committed(), frames);
+  // After a pause, the next frame commits everything (waits up to 10 s for a slow machine).
+  const auto start = std::chrono::steady_clock::now();
+  while (out.frames_committed() != out.frames_written() &&
+         std::chrono::steady_clock::now() - start < std::chrono::seconds(10)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    out.write_frame(f);
+  }
+  EXPECT_EQ(out.frames_committed(), out.frames_written());
+  H5Id file{open_file(), H5Fclose};
+  ASSERT_GE(file.id, 0);
+  EXPECT_EQ(read_attribute<std::int64_t>(file.id, "/frames", "count"), out.frames_committed());
+  EXPECT_GT(check_xdmf_references(file.id), 0);
+}
+
+// A run killed (SIGKILL, no finish, no destructor) after two frames leaves a readable file with
+// the frames and history rows of its last commit: the first frame commits at once, the second
+// when flush() commits it (as a checkpoint does), with every row buffered before it.
 TEST_F(OutputFileTest, KilledAfterTwoFramesLeavesReadableFile) {
   const FrameData f0 = make_frame(2, 2, 1e-6, 40, {"stress"});
   const FrameData f1 = make_frame(3, 1, 2e-6, 90, {"von_mises"});
@@ -632,13 +740,16 @@ TEST_F(OutputFileTest, KilledAfterTwoFramesLeavesReadableFile) {
   ASSERT_GE(pid, 0);
   if (pid == 0) {
     try {
-      OutputFile out(h5_, run_info());
+      OutputFile out(h5_, run_info(), kDouble);
       out.declare_probe("tip");
       for (long i = 0; i < 150; ++i) {
         out.append_history(history_row(i));
         out.append_probe("tip", probe_row(i));
         if (i + 1 == 40) out.write_frame(f0);
-        if (i + 1 == 90) out.write_frame(f1);
+        if (i + 1 == 90) {
+          out.write_frame(f1);
+          out.flush();
+        }
       }
       kill(getpid(), SIGKILL);
     } catch (...) {
@@ -659,6 +770,47 @@ TEST_F(OutputFileTest, KilledAfterTwoFramesLeavesReadableFile) {
   EXPECT_EQ(dims_of(file.id, "/probes/tip/time"), (std::vector<hsize_t>{90}));
   EXPECT_EQ(read_attribute<std::string>(file.id, "/run", "backend"), "OpenMP");
   EXPECT_EQ(check_xdmf_references(file.id), 2 * 6 + 1 + 1);
+}
+
+// Constant cost per frame (docs/output.md, crash-safe writing): the same run writing a frame
+// (and a history row) every step, for 100 and for 1000 steps, spends the same wall time per
+// frame within 30%, as /run@output_seconds reports it (gathering, frame files, commits and the
+// final copy of the frames). Committing at every frame made it grow in proportion to the frames
+// already written (the paper's plate: 14 ms at 500 frames, 21 ms at 2000). Each run twice, the
+// faster kept: timings are a ratio within one test run, never absolute.
+TEST(OutputCost, PerFrameDoesNotGrowWithTheFramesWritten) {
+  const std::string dir =
+      (fs::path(::testing::TempDir()) / ("fracta_output_cost_" + std::to_string(getpid())))
+          .string();
+  fs::create_directories(dir);
+  const double dt = 9.066e-8;  // the scene's step (`fracta check`)
+  double per_frame[2] = {1e9, 1e9};
+  long frames[2] = {0, 0};
+  const int steps[2] = {100, 1000};
+  for (int repeat = 0; repeat < 2; ++repeat)
+    for (int i = 0; i < 2; ++i) {
+      const std::string out = dir + "/run" + std::to_string(steps[i]) + ".h5";
+      const fracta_test::Result r =
+          fracta_test::run("run " + fracta_test::data("restart/impact.toml") + " -o " + out +
+                           " --set output.checkpoint_interval=0 simulation.output_interval=1e-12 "
+                           "simulation.end_time=" +
+                           std::to_string(steps[i] * dt));
+      ASSERT_EQ(r.code, 0) << r.out;
+      H5Id file{H5Fopen(out.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
+      ASSERT_GE(file.id, 0);
+      frames[i] = read_attribute<std::int64_t>(file.id, "/frames", "count");
+      const double seconds = read_attribute<double>(file.id, "/run", "output_seconds");
+      per_frame[i] = std::min(per_frame[i], seconds / frames[i]);
+      EXPECT_GE(static_cast<long>(dims_of(file.id, "/history/time").at(0)), frames[i]);
+    }
+  EXPECT_GE(frames[0], 100);
+  EXPECT_GE(frames[1], 1000);
+  const double ratio = per_frame[1] / per_frame[0];
+  std::printf("output cost per frame: %.3f ms at %ld frames, %.3f ms at %ld frames (ratio %.3f)\n",
+              1e3 * per_frame[0], frames[0], 1e3 * per_frame[1], frames[1], ratio);
+  EXPECT_LT(ratio, 1.3);
+  EXPECT_GT(ratio, 1.0 / 1.3);
+  fs::remove_all(dir);
 }
 
 }  // namespace
