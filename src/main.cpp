@@ -64,7 +64,7 @@ int check_case(const fracta::Case& c) {
         c.contact.stiffness_factor, c.contact.damping_ratio, c.contact.friction);
   else
     std::printf("  DE: none (no de body): no bonds, no contact search\n");
-  for (const std::string& note : m.strength_notes) std::printf("  note: %s\n", note.c_str());
+  for (const std::string& note : m.notes) std::printf("  note: %s\n", note.c_str());
   std::printf("  loads %zu, boundary sets %zu, probes %zu, body probes %zu\n", c.loads.size(),
               c.boundaries.size(), c.probes.size(), c.body_probes.size());
   std::printf("  memory estimate %s (peak of a run)\n", format_bytes(memory).c_str());

@@ -967,8 +967,29 @@ void read_case(const Reader& r, Case& c) {
   if (auto t = r.optional_table("contact")) c.contact = read_contact(*t);
 
   Names bodies("body");
-  for (const Reader& e : r.entries("body")) c.bodies.push_back(read_body(e, bodies, materials));
+  const std::vector<Reader> body_entries = r.entries("body");
+  for (const Reader& e : body_entries) c.bodies.push_back(read_body(e, bodies, materials));
   if (c.bodies.empty()) r.fail("body", "at least one [[body]] is required");
+  {
+    // An impact faster than kMaxClosingSpeedRatio times the materials' P-wave speed is refused:
+    // nothing of a solid survives it (meteoroids, the fastest natural impacts, strike rock at
+    // up to about 70 km/s, about 10 times its P-wave speed), and the solver's step would let
+    // the bodies pass through each other.
+    const ClosingSpeed closing = initial_closing_speed(c);
+    const double limit = kMaxClosingSpeedRatio * largest_p_wave_speed(c);
+    if (closing.faster >= 0 && closing.speed > limit) {
+      char what[320];
+      std::snprintf(what, sizeof what,
+                    "closes on body '%s' at %.4g m/s, more than %.0f times the largest P-wave "
+                    "speed of the materials (%.4g m/s): no solid's law applies at such speeds",
+                    c.bodies[closing.slower].name.c_str(), closing.speed, kMaxClosingSpeedRatio,
+                    limit / kMaxClosingSpeedRatio);
+      body_entries[closing.faster].fail(body_entries[closing.faster].has("initial_velocity")
+                                            ? "initial_velocity"
+                                            : "initial_velocity_gradient",
+                                        what);
+    }
+  }
 
   for (const Reader& e : r.entries("load")) c.loads.push_back(read_load(e, bodies));
   Names boundary_names("boundary");
@@ -980,6 +1001,69 @@ void read_case(const Reader& r, Case& c) {
     c.body_probes.push_back(read_body_probe(e, body_probes, bodies));
   if (auto t = r.optional_table("output")) c.output = read_output(*t);
 }
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Initial closing speed
+
+namespace {
+// A point of the shape's interior used as its centre: the rectangle's centre, the circle's
+// centre, the semicircle's centroid, the polygon's vertex mean.
+Vec2 shape_centre(const Shape& s) {
+  switch (s.type) {
+    case Shape::Type::rectangle:
+      return {s.x + 0.5 * s.width, s.y + 0.5 * s.height};
+    case Shape::Type::circle:
+      return {s.x, s.y};
+    case Shape::Type::semicircle: {
+      const double offset = 4.0 * s.radius / (3.0 * kPi), angle = s.angle_deg * kPi / 180.0;
+      return {s.x + offset * std::cos(angle), s.y + offset * std::sin(angle)};
+    }
+    case Shape::Type::polygon: {
+      Vec2 sum{0, 0};
+      for (const Vec2& p : s.points) sum = {sum[0] + p[0], sum[1] + p[1]};
+      const double n = s.points.empty() ? 1.0 : static_cast<double>(s.points.size());
+      return {sum[0] / n, sum[1] / n};
+    }
+  }
+  return {s.x, s.y};
+}
+
+Vec2 centre_velocity(const Body& b) {
+  const Vec2 x = shape_centre(b.shape);
+  const auto& L = b.initial_velocity_gradient;
+  const Vec2& o = b.initial_velocity_origin;
+  return {b.initial_velocity[0] + L[0][0] * (x[0] - o[0]) + L[0][1] * (x[1] - o[1]),
+          b.initial_velocity[1] + L[1][0] * (x[0] - o[0]) + L[1][1] * (x[1] - o[1])};
+}
+}  // namespace
+
+ClosingSpeed initial_closing_speed(const Case& c) {
+  ClosingSpeed out;
+  std::vector<Vec2> v;
+  for (const Body& b : c.bodies) v.push_back(centre_velocity(b));
+  for (size_t a = 0; a < v.size(); ++a)
+    for (size_t b = a + 1; b < v.size(); ++b) {
+      const double speed = std::hypot(v[a][0] - v[b][0], v[a][1] - v[b][1]);
+      if (speed <= out.speed) continue;
+      const bool a_faster = std::hypot(v[a][0], v[a][1]) >= std::hypot(v[b][0], v[b][1]);
+      out = {speed, static_cast<int>(a_faster ? a : b), static_cast<int>(a_faster ? b : a)};
+    }
+  return out;
+}
+
+double largest_p_wave_speed(const Case& c) {
+  double speed = 0;
+  for (const Material& m : c.materials) {
+    const double nu = m.poisson_ratio;
+    speed = std::max(
+        speed, std::sqrt(m.youngs_modulus * (1 - nu) / ((1 + nu) * (1 - 2 * nu) * m.density)));
+  }
+  return speed;
+}
+
+namespace {
 
 // ---------------------------------------------------------------------------------------------
 // Parsing and --set overrides

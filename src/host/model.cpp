@@ -329,7 +329,7 @@ void draw_heterogeneity(Model& model) {
                 "Random bond strengths, seed %llu: factors %.3g to %.3g of the strength over %d "
                 "bond slots",
                 static_cast<unsigned long long>(c.sim.seed), lowest, highest, bonds.count);
-  model.strength_notes.push_back(note);
+  model.notes.push_back(note);
 }
 
 // Bond slots (every edge once and every diagonal of the elements of convertible bodies, in the
@@ -526,7 +526,7 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
                       1e3 * s.youngs_modulus_eff * mat.fracture_energy /
                           (mat.tensile_strength * mat.tensile_strength),
                       kCohesiveZoneCells, 1e3 * largest_cell[mi], cap / 1e6);
-        model.strength_notes.push_back(note);
+        model.notes.push_back(note);
       }
     }
     // Cohesive bonds: each bond's share of the crack area (BondLaw, bond_forces.hpp).
@@ -651,6 +651,22 @@ Model build_model(const Case& c) {
   }
   check_lattice_range(c);
   Model model;
+  {
+    // Faster than a P-wave, an impact drives shocks, which the materials' laws (no equation of
+    // state) do not describe; much faster is refused when the case is read (case.hpp).
+    const ClosingSpeed closing = initial_closing_speed(c);
+    const double wave = largest_p_wave_speed(c);
+    if (closing.faster >= 0 && closing.speed > wave) {
+      char note[320];
+      std::snprintf(note, sizeof note,
+                    "body '%s' closes on body '%s' at %.4g m/s, above the largest P-wave speed of "
+                    "the materials (%.4g m/s): the shocks of such an impact are beyond the "
+                    "materials' laws (no equation of state)",
+                    c.bodies[closing.faster].name.c_str(), c.bodies[closing.slower].name.c_str(),
+                    closing.speed, wave);
+      model.notes.push_back(note);
+    }
+  }
   model.scene = c;
   model.mesh = build_mesh(c);
   const HostMesh& m = model.mesh;

@@ -69,9 +69,11 @@ struct Model {
   ListWorkspace lists;                        // conversion workspace for the lattice lists
   View<LatticeStiffness*> lattice_stiffness;  // per material
   View<BondLaw*> bond_laws;                   // per material
-  // Cohesive materials whose process zone the lattice cannot resolve: the bond tensile strength
-  // is capped (build_lattice; docs/physics.md 1.2, "Resolving the process zone"), one line each.
-  std::vector<std::string> strength_notes;
+  // What a user should know about the model, one line each, printed by `fracta run` and
+  // `fracta check`: cohesive materials whose process zone the lattice cannot resolve (the bond
+  // tensile strength is capped; build_lattice, docs/physics.md 1.2, "Resolving the process
+  // zone"), the random strengths drawn, an impact faster than the materials' P-wave speed.
+  std::vector<std::string> notes;
   // Disc contact (particles and FE boundary nodes); null when the scene has no discs.
   std::shared_ptr<ContactSystem> contacts;
   // Rigid bodies and each node's offset from its body's centre of mass in the reference state.

@@ -759,7 +759,7 @@ int run_case(const Case& c, const RunOptions& opt) {
                            : opt.output_path.empty() ? c.output.file
                                                      : opt.output_path;
   Simulation sim(c);
-  for (const std::string& note : sim.model().strength_notes)
+  for (const std::string& note : sim.model().notes)
     std::fprintf(stderr, "fracta: note: %s\n", note.c_str());
   if (restart) {
     const auto read0 = clock::now();

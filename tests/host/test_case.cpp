@@ -277,6 +277,8 @@ const BadCase kBadCases[] = {
     {"friction_angle_90.toml", 12, "material['sand'].friction_angle", "must be < 90"},
     {"unknown_output_field.toml", 23, "output.fields", "unknown field 'strain'"},
     {"output_precision_half.toml", 23, "output.precision", "unknown value 'half'"},
+    {"closing_speed_absurd.toml", 25, "body['projectile'].initial_velocity",
+     "more than 10 times the largest P-wave speed of the materials (5875 m/s)"},
     {"output_compression_fraction.toml", 23, "output.compression", "whole number from 0 to 9"},
     {"boundary_segment_and_shape.toml", 24, "boundary[0].shape", "not both"},
     {"no_body.toml", 1, "body", "at least one [[body]] is required"},

@@ -49,6 +49,31 @@ TEST(Cli, RunRejectsBadInputWithCode2) {
   EXPECT_NE(bad_set.out.find("end_time"), std::string::npos) << bad_set.out;  // did you mean
 }
 
+// Impacts faster than the materials' P-wave speed are noted (shocks are beyond the laws); ten
+// times faster are refused (tests/data/bad/closing_speed_absurd.toml). The main job's scene:
+// concrete's P-wave speed, sqrt(E (1 - nu) / ((1 + nu) (1 - 2 nu) rho)) = 6569 m/s.
+TEST(Cli, HypervelocityImpactsAreNotedAndAbsurdOnesRefused) {
+  const std::string scene = std::string(FRACTA_SOURCE_DIR) + "/cases/penetration.toml";
+  const std::string note = "above the largest P-wave speed of the materials (6569 m/s)";
+  const Result slow =
+      run("check " + scene + " --set body.projectile.initial_velocity=[0.0,-6500.0]");
+  EXPECT_EQ(slow.code, 0) << slow.out;
+  EXPECT_EQ(slow.out.find(note), std::string::npos) << slow.out;
+  const Result fast =
+      run("check " + scene + " --set body.projectile.initial_velocity=[0.0,-7000.0]");
+  EXPECT_EQ(fast.code, 0) << fast.out;
+  EXPECT_NE(fast.out.find("note: body 'projectile' closes on body 'slab' at 7000 m/s, " + note),
+            std::string::npos)
+      << fast.out;
+  const Result absurd =
+      run("check " + scene + " --set body.projectile.initial_velocity=[0.0,-70000.0]");
+  EXPECT_EQ(absurd.code, 2) << absurd.out;
+  EXPECT_NE(absurd.out.find("--set: body['projectile'].initial_velocity: closes on body 'slab' "
+                            "at 7e+04 m/s, more than 10 times"),
+            std::string::npos)
+      << absurd.out;
+}
+
 TEST(Cli, FixedDtAboveStableBoundIsRefused) {
   const Result r = run("check " + data("cli/dt_too_large.toml"));
   EXPECT_EQ(r.code, 2) << r.out;

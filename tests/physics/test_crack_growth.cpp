@@ -66,7 +66,7 @@ CrackRun run_crack(double p, double sigma_t, double end_time) {
   c.sim.end_time = end_time;
   Simulation sim(c);
   CrackRun r;
-  r.notes = sim.model().strength_notes;
+  r.notes = sim.model().notes;
   r.thickness = c.sim.thickness;
   r.h = c.bodies[0].cell_size;
   const double tol = 0.25 * r.h;
