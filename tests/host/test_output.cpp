@@ -708,7 +708,7 @@ TEST_F(OutputFileTest, CommitsAreSpacedAndAFrameAfterAPauseCommits) {
   OutputFile out(h5_, run_info());
   out.write_frame(f);
   EXPECT_EQ(out.frames_committed(), 1);  // the first frame is listed at once
-  const int frames = 300;
+  const int frames = 150;
   for (int k = 1; k < frames; ++k) out.write_frame(f);
   EXPECT_EQ(out.frames_written(), frames);
   // A commit is due once 19 times its duration has passed: back to back, a frame (an HDF5 file
