@@ -7,6 +7,7 @@
 // (material['steel'], body['slab']) and by their index otherwise (load[0], body['slab'].cut[1]).
 // Values that came from --set report the source "--set" instead of a file line.
 #include "host/case.hpp"
+#include "host/mesh.hpp"  // shape_bounds
 
 #include <toml++/toml.h>
 
@@ -1008,30 +1009,9 @@ void read_case(const Reader& r, Case& c) {
 // Initial closing speed
 
 namespace {
-// A point of the shape's interior used as its centre: the rectangle's centre, the circle's
-// centre, the semicircle's centroid, the polygon's vertex mean.
-Vec2 shape_centre(const Shape& s) {
-  switch (s.type) {
-    case Shape::Type::rectangle:
-      return {s.x + 0.5 * s.width, s.y + 0.5 * s.height};
-    case Shape::Type::circle:
-      return {s.x, s.y};
-    case Shape::Type::semicircle: {
-      const double offset = 4.0 * s.radius / (3.0 * kPi), angle = s.angle_deg * kPi / 180.0;
-      return {s.x + offset * std::cos(angle), s.y + offset * std::sin(angle)};
-    }
-    case Shape::Type::polygon: {
-      Vec2 sum{0, 0};
-      for (const Vec2& p : s.points) sum = {sum[0] + p[0], sum[1] + p[1]};
-      const double n = s.points.empty() ? 1.0 : static_cast<double>(s.points.size());
-      return {sum[0] / n, sum[1] / n};
-    }
-  }
-  return {s.x, s.y};
-}
-
 Vec2 centre_velocity(const Body& b) {
-  const Vec2 x = shape_centre(b.shape);
+  const std::array<double, 4> box = shape_bounds(b.shape);
+  const Vec2 x{0.5 * (box[0] + box[2]), 0.5 * (box[1] + box[3])};
   const auto& L = b.initial_velocity_gradient;
   const Vec2& o = b.initial_velocity_origin;
   return {b.initial_velocity[0] + L[0][0] * (x[0] - o[0]) + L[0][1] * (x[1] - o[1]),

@@ -220,9 +220,9 @@ Case parse_case(const std::string& text, const std::string& source_name,
 void check_restart_compatible(const Case& stored, const Case& now);
 
 // The fastest closing of two bodies at the start: the largest |v_a - v_b| of the bodies' initial
-// velocities at their shapes' centres (m/s), and the two bodies (-1 when there is one body).
-// Against it, the largest P-wave speed of the materials, sqrt(E (1 - nu) / ((1 + nu)
-// (1 - 2 nu) rho)) (m/s). Above kMaxClosingSpeedRatio times that speed a case is refused (no
+// velocities at the centres of their shapes' bounding boxes (m/s), and the two bodies (-1 when
+// there is one body). Against it, the largest P-wave speed of the materials, sqrt(E (1 - nu) / ((1
+// + nu) (1 - 2 nu) rho)) (m/s). Above kMaxClosingSpeedRatio times that speed a case is refused (no
 // solid's law applies: the impact vaporises what it hits); above the speed itself the model
 // notes that shocks are beyond its laws (docs/case-file.md, "Initial velocities").
 struct ClosingSpeed {

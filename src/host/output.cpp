@@ -836,17 +836,8 @@ void OutputFile::append_boundary(const std::string& name, const BoundaryRecord& 
   Impl::buffer(impl_->path, impl_->boundary_rows, name, r);
 }
 
-namespace {
-// Adds the wall time of its scope to `total`, also when the scope ends by an exception.
-struct ScopeTimer {
-  double& total;
-  Clock::time_point start = Clock::now();
-  ~ScopeTimer() { total += seconds_since(start); }
-};
-}  // namespace
-
 void OutputFile::write_frame(const FrameData& f) {
-  const ScopeTimer timer{impl_->write_seconds};
+  const ScopedSeconds timer(impl_->write_seconds);
   impl_->write_frame(f);
 }
 
@@ -857,7 +848,7 @@ void OutputFile::flush() {
 void OutputFile::finish(long steps, const RunTimes& times, const std::string& status) {
   const auto start = Clock::now();
   {
-    const ScopeTimer timer{impl_->write_seconds};
+    const ScopedSeconds timer(impl_->write_seconds);
     impl_->finish(steps, times, status);
   }
   impl_->finish_seconds = seconds_since(start);

@@ -9,6 +9,7 @@
 // length, commits take at most about 5% of its wall time and a frame costs the same.
 #pragma once
 #include <array>
+#include <chrono>
 #include <map>
 #include <memory>
 #include <string>
@@ -111,6 +112,21 @@ struct RunTimes {
   double output = 0;      // frames: gathering from the device, writing, commits, the final copy
   double history = 0;     // history, probe and boundary rows: evaluating and buffering them
   double checkpoint = 0;  // checkpoints (with the commit of the output that precedes each)
+};
+
+// Adds the wall time (s) of its scope to `total`, also when the scope ends by an exception.
+class ScopedSeconds {
+ public:
+  explicit ScopedSeconds(double& total) : total_(total), start_(std::chrono::steady_clock::now()) {}
+  ~ScopedSeconds() {
+    total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  ScopedSeconds(const ScopedSeconds&) = delete;
+  ScopedSeconds& operator=(const ScopedSeconds&) = delete;
+
+ private:
+  double& total_;
+  std::chrono::steady_clock::time_point start_;
 };
 
 class OutputFile {

@@ -583,30 +583,82 @@ namespace {
 // write reused device buffers, copied to the vectors afterwards.
 constexpr bool kFrameOnHost = Kokkos::SpaceAccessibility<ExecSpace, HostSpace>::accessible;
 
-// Sizes `values` to n entries (keeping its capacity) and returns the array the packing writes.
+// One frame array: where the packing writes it, where FrameData keeps it, its rows and width.
 template <class T>
-FrameArray<T> frame_array(std::vector<T>& values, std::size_t n, std::vector<View<T*>>& buffers,
-                          std::size_t& used) {
-  values.resize(n);
-  if constexpr (kFrameOnHost) {
-    return FrameArray<T>(values.data(), n);
-  } else {
-    if (used == buffers.size()) buffers.emplace_back();
-    View<T*>& buffer = buffers[used++];
-    if (buffer.extent(0) < n)
-      buffer = View<T*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::frame_buffer"),
-                        n + n / 2);
-    return FrameArray<T>(buffer.data(), n);
+struct FrameField {
+  FrameArray<T> FrameViews::*packed;
+  std::vector<T> FrameData::*data;
+  int FrameCounts::*rows;
+  int width;
+};
+using FV = FrameViews;
+using FD = FrameData;
+using FC = FrameCounts;
+const FrameField<double> kRealFrameFields[] = {
+    {&FV::node_position, &FD::node_position, &FC::nodes, 2},
+    {&FV::node_displacement, &FD::node_displacement, &FC::nodes, 2},
+    {&FV::node_velocity, &FD::node_velocity, &FC::nodes, 2},
+    {&FV::element_stress, &FD::element_stress, &FC::elements, 4},
+    {&FV::element_plastic_strain, &FD::element_plastic_strain, &FC::elements, 1},
+    {&FV::element_pressure, &FD::element_pressure, &FC::elements, 1},
+    {&FV::element_von_mises, &FD::element_von_mises, &FC::elements, 1},
+    {&FV::particle_radius, &FD::particle_radius, &FC::discs, 1},
+    {&FV::particle_rotation, &FD::particle_rotation, &FC::discs, 1},
+    {&FV::particle_spin, &FD::particle_spin, &FC::discs, 1},
+    {&FV::bond_normal_force, &FD::bond_normal_force, &FC::bonds, 1},
+    {&FV::bond_damage, &FD::bond_damage, &FC::bonds, 1},
+};
+const FrameField<int> kIntFrameFields[] = {
+    {&FV::element_nodes, &FD::element_nodes, &FC::elements, 4},
+    {&FV::element_id, &FD::element_id, &FC::elements, 1},
+    {&FV::element_body, &FD::element_body, &FC::elements, 1},
+    {&FV::particle_node, &FD::particle_node, &FC::discs, 1},
+    {&FV::bond_nodes, &FD::bond_nodes, &FC::bonds, 2},
+    {&FV::bond_state, &FD::bond_state, &FC::bonds, 1},
+};
+
+// Sizes each field's vector and points its packed array at it (host) or at a buffer (device).
+template <class T, std::size_t N>
+void bind_frame_fields(const FrameField<T> (&fields)[N], const FrameCounts& counts, FrameData& f,
+                       FrameViews& v, std::vector<View<T*>>& buffers) {
+  if (buffers.size() < N) buffers.resize(N);
+  for (std::size_t k = 0; k < N; ++k) {
+    std::vector<T>& values = f.*fields[k].data;
+    const std::size_t n = static_cast<std::size_t>(counts.*fields[k].rows) * fields[k].width;
+    values.resize(n);
+    T* target = values.data();
+    if constexpr (!kFrameOnHost) {
+      if (buffers[k].extent(0) < n)
+        buffers[k] = View<T*>(
+            Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::frame_buffer"), n + n / 2);
+      target = buffers[k].data();
+    }
+    v.*fields[k].packed = FrameArray<T>(target, n);
   }
 }
 
-template <class T>
-void copy_to_host(std::vector<T>& values, const FrameArray<T>& packed) {
+template <class T, std::size_t N>
+void copy_frame_fields(const FrameField<T> (&fields)[N], const FrameViews& v, FrameData& f) {
   if constexpr (!kFrameOnHost)
-    Kokkos::deep_copy(
-        Kokkos::View<T*, HostSpace, Kokkos::MemoryUnmanaged>(values.data(), values.size()), packed);
+    for (const FrameField<T>& field : fields) {
+      std::vector<T>& values = f.*field.data;
+      Kokkos::deep_copy(
+          Kokkos::View<T*, HostSpace, Kokkos::MemoryUnmanaged>(values.data(), values.size()),
+          v.*field.packed);
+    }
 }
 }  // namespace
+
+void pack_frame_data(const Model& model, FrameData& f, FrameBuffers& buffers) {
+  const FrameCounts counts = count_frame(model.nodes, model.elements, model.bonds);
+  FrameViews v;
+  bind_frame_fields(kRealFrameFields, counts, f, v, buffers.reals);
+  bind_frame_fields(kIntFrameFields, counts, f, v, buffers.ints);
+  pack_frame(model.nodes, model.elements, model.bonds, v);
+  Kokkos::fence();
+  copy_frame_fields(kRealFrameFields, v, f);
+  copy_frame_fields(kIntFrameFields, v, f);
+}
 
 const FrameData& Simulation::frame(const std::vector<std::string>& fields) {
   finish_kick();
@@ -615,53 +667,7 @@ const FrameData& Simulation::frame(const std::vector<std::string>& fields) {
   f.step = steps();
   f.fields = fields;
   const Nodes& n = model_.nodes;
-  const FrameCounts c = count_frame(n, model_.elements, model_.bonds);
-  std::size_t reals = 0, ints = 0;
-  auto real = [&](std::vector<double>& values, std::size_t size) {
-    return frame_array(values, size, frame_real_buffers_, reals);
-  };
-  auto integer = [&](std::vector<int>& values, std::size_t size) {
-    return frame_array(values, size, frame_int_buffers_, ints);
-  };
-  FrameViews v;
-  v.node_position = real(f.node_position, 2 * c.nodes);
-  v.node_displacement = real(f.node_displacement, 2 * c.nodes);
-  v.node_velocity = real(f.node_velocity, 2 * c.nodes);
-  v.element_nodes = integer(f.element_nodes, 4 * c.elements);
-  v.element_id = integer(f.element_id, c.elements);
-  v.element_body = integer(f.element_body, c.elements);
-  v.element_stress = real(f.element_stress, 4 * c.elements);
-  v.element_plastic_strain = real(f.element_plastic_strain, c.elements);
-  v.element_pressure = real(f.element_pressure, c.elements);
-  v.element_von_mises = real(f.element_von_mises, c.elements);
-  v.particle_node = integer(f.particle_node, c.discs);
-  v.particle_radius = real(f.particle_radius, c.discs);
-  v.particle_rotation = real(f.particle_rotation, c.discs);
-  v.particle_spin = real(f.particle_spin, c.discs);
-  v.bond_nodes = integer(f.bond_nodes, 2 * c.bonds);
-  v.bond_state = integer(f.bond_state, c.bonds);
-  v.bond_normal_force = real(f.bond_normal_force, c.bonds);
-  v.bond_damage = real(f.bond_damage, c.bonds);
-  pack_frame(n, model_.elements, model_.bonds, v);
-  Kokkos::fence();
-  copy_to_host(f.node_position, v.node_position);
-  copy_to_host(f.node_displacement, v.node_displacement);
-  copy_to_host(f.node_velocity, v.node_velocity);
-  copy_to_host(f.element_nodes, v.element_nodes);
-  copy_to_host(f.element_id, v.element_id);
-  copy_to_host(f.element_body, v.element_body);
-  copy_to_host(f.element_stress, v.element_stress);
-  copy_to_host(f.element_plastic_strain, v.element_plastic_strain);
-  copy_to_host(f.element_pressure, v.element_pressure);
-  copy_to_host(f.element_von_mises, v.element_von_mises);
-  copy_to_host(f.particle_node, v.particle_node);
-  copy_to_host(f.particle_radius, v.particle_radius);
-  copy_to_host(f.particle_rotation, v.particle_rotation);
-  copy_to_host(f.particle_spin, v.particle_spin);
-  copy_to_host(f.bond_nodes, v.bond_nodes);
-  copy_to_host(f.bond_state, v.bond_state);
-  copy_to_host(f.bond_normal_force, v.bond_normal_force);
-  copy_to_host(f.bond_damage, v.bond_damage);
+  pack_frame_data(model_, f, frame_buffers_);
   // Fragments: connected components over active bonds and alive elements.
   if (fragments_.labels.extent(0) < static_cast<size_t>(n.count))
     fragments_ = FragmentWorkspace(n.count);
@@ -775,12 +781,7 @@ int run_case(const Case& c, const RunOptions& opt) {
   // Wall time of the run's parts (/run attributes, the summary line): what the output costs.
   RunTimes times;
   auto timed = [&](double& total, auto&& work) {
-    const auto start = clock::now();
-    struct Add {  // also when `work` throws
-      double& total;
-      clock::time_point start;
-      ~Add() { total += std::chrono::duration<double>(clock::now() - start).count(); }
-    } add{total, start};
+    const ScopedSeconds timer(total);
     return work();
   };
   auto record = [&]() { return timed(times.history, [&] { return record_history(out, sim); }); };

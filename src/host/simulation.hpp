@@ -13,6 +13,13 @@
 
 namespace fracta {
 
+// Device buffers a frame is packed into where the kernels cannot write host memory (GPUs), one
+// per array; grown, never shrunk. Unused on host backends.
+struct FrameBuffers {
+  std::vector<View<double*>> reals;
+  std::vector<View<int*>> ints;
+};
+
 class Simulation {
  public:
   // Builds the model, evaluates the initial forces and the stable time step. Throws InputError
@@ -96,10 +103,7 @@ class Simulation {
   View<double* [7]> probe_values_;
   FragmentWorkspace fragments_;
   FrameData frame_;  // the last frame(), its arrays kept for the next
-  // Device buffers the frame is packed into where the kernels cannot write host memory (GPUs),
-  // by type in FrameViews order; grown, never shrunk.
-  std::vector<View<double*>> frame_real_buffers_;
-  std::vector<View<int*>> frame_int_buffers_;
+  FrameBuffers frame_buffers_;
   View<double*[3]> contact_force_, contact_force_prev_;
   StableDtWorkspace stable_dt_;  // bond_stable_dt without allocations, per-particle cache
   // Counts the adaptive elements the FE kernel flagged for conversion since the last one;
@@ -148,6 +152,11 @@ double history_every_for(const SimulationParams& sim);
 std::string restart_command(const Case& c, const std::string& checkpoint_path);
 
 // The /run attributes of an output file of case c written by this build and backend.
+// Packs the state's nodes, active elements, discs and bonds into f's arrays (kernels/frame.hpp),
+// resizing them (their capacity is kept: no page faults once a frame has been that large).
+// Leaves f's time, step, fields and fragments alone.
+void pack_frame_data(const Model& model, FrameData& f, FrameBuffers& buffers);
+
 RunInfo run_info(const Case& c);
 
 // Declares the case's probes and body probes in out.
