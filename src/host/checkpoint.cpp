@@ -31,8 +31,9 @@ constexpr const char* kFormat = "fracta checkpoint";
 // 2: bond damage and onset separation; 3: the lists of used bond slots and of particles;
 // 4: the FE dissipation sums; 5: bond slots in the bond kernel's order (build_lattice);
 // 6: the contact's discs are the boundary nodes and the particles (x_build has one row each);
-// 8: nodes.fixed (supports); 9: the Weibull strength factors (/strength), when drawn
-constexpr std::int64_t kFormatVersion = 9;
+// 8: nodes.fixed (supports); 9: the Weibull strength factors (/strength), when drawn;
+// 10: the volumetric strains of the lattice's cell term (empty without it)
+constexpr std::int64_t kFormatVersion = 10;
 
 using h5::Handle;
 

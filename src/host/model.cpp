@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "host/memory.hpp"
+#include "kernels/cell_forces.hpp"
 #include "kernels/conversion.hpp"
 #include "kernels/heterogeneity.hpp"
 
@@ -260,23 +261,21 @@ bool convertible(BodyMethod m) {
   return m == BodyMethod::de || m == BodyMethod::adaptive;
 }
 
-// The bonded lattice is isotropic only for nu <= 1/3 (plane stress) or nu <= 1/4 (plane
-// strain): above, the shear spring ks would be negative (docs/physics.md 1.2).
+// The bonded lattice reproduces E and nu for 0 <= nu < 1/2: pair springs up to the classical
+// Poisson limit (nu <= 1/3 in plane stress, 1/4 in plane strain), a volumetric cell term beyond
+// (LatticeStiffness, cell_forces.hpp). Below 0 its diagonal springs would be negative.
 void check_lattice_range(const Case& c) {
-  const bool plane_strain = c.sim.formulation == Formulation::plane_strain;
   for (const Body& b : c.bodies) {
     bool uses_lattice = convertible(b.method);
     for (const Region& r : b.regions) uses_lattice = uses_lattice || convertible(r.method);
     if (!uses_lattice) continue;
     const Material& mat = c.materials[b.material_index];
-    const double nu = mat.poisson_ratio;
-    const double nu_eff = plane_strain ? nu / (1.0 - nu) : nu;
-    if (nu_eff > 1.0 / 3.0 + 1e-12) {
+    if (mat.poisson_ratio < 0.0) {
       std::ostringstream msg;
       msg << "body '" << b.name << "' becomes bonded discs, but the disc lattice reproduces "
-          << "Poisson's ratio only up to 1/3 in plane stress and 1/4 in plane strain; material '"
-          << mat.name << "' has nu = " << nu << " (" << to_string(c.sim.formulation)
-          << "). Use method = \"fe\" for this body, or plane stress";
+          << "Poisson's ratios from 0 to 1/2 only (its diagonal springs would be negative); "
+          << "material '" << mat.name << "' has nu = " << mat.poisson_ratio
+          << ". Use method = \"fe\" for this body";
       throw InputError(b.pos.file, b.pos.line, "body['" + b.name + "'].method", msg.str());
     }
   }
@@ -555,6 +554,16 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   }
   model.lattice_stiffness = to_device_1d<LatticeStiffness>("lattice_stiffness", stiffness);
   model.bond_laws = to_device_1d<BondLaw>("bond_laws", laws);
+  // The volumetric cell term (cell_forces.hpp) where a convertible cell's material needs it:
+  // beyond the pair lattice's Poisson limit. Other scenes allocate and launch nothing for it.
+  bool cell_term = false;
+  for (size_t mi = 0; mi < c.materials.size(); ++mi)
+    cell_term = cell_term || (largest_cell[mi] > 0.0 && stiffness[mi].kv > 0.0);
+  if (cell_term) {
+    model.elements.cell_volumetric_strain =
+        View<double*>("fracta::cell_volumetric_strain", model.elements.count);
+    build_cell_scatter_plan(model.elements);
+  }
   draw_heterogeneity(model);
 
   // Particle views of the nodes: radius half the cell, inertia m r^2 / 2, lambda k1.

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "host/checkpoint.hpp"
+#include "kernels/cell_forces.hpp"
 #include "kernels/energy.hpp"
 #include "kernels/fragments.hpp"
 #include "kernels/frame.hpp"
@@ -150,6 +151,16 @@ std::string restart_command(const Case& c, const std::string& checkpoint_path) {
   return command;
 }
 
+namespace {
+// The per-material stiffness the lattice's stable step reads for the volumetric cell term
+// (stable_dt.hpp); empty when no cell has the term, so other scenes read nothing more.
+View<const LatticeStiffness*> cell_term_stiffness(const Model& m) {
+  return m.elements.cell_volumetric_strain.extent(0) > 0
+             ? View<const LatticeStiffness*>(m.lattice_stiffness)
+             : View<const LatticeStiffness*>();
+}
+}  // namespace
+
 Simulation::Simulation(const Case& c) : model_(build_model(c)) {
   StepClock& clock = ledger_.clock;
   // The contact's forces of the last evaluation are part of the state (snapshot, checkpoint)
@@ -161,8 +172,8 @@ Simulation::Simulation(const Case& c) : model_(build_model(c)) {
   // The bond network's bound: bonds only weaken or break, so it stays valid until a conversion
   // adds stiffness; it allows 6 contacts per disc.
   stable_dt_.cache = true;
-  ledger_.bounds.lattice =
-      bond_stable_dt(model_.nodes, model_.bonds, model_.topology, 6, stable_dt_);
+  ledger_.bounds.lattice = bond_stable_dt(model_.nodes, model_.bonds, model_.topology, 6,
+                                          stable_dt_, cell_term_stiffness(model_));
   initial_forces();
   if (ledger_.bounds.step <= 0.0)
     throw InputError(c.path, c.sim.pos.line, "body", "an element has zero or negative area");
@@ -280,7 +291,10 @@ BondStepResult Simulation::bond_forces(double dt) {
   ProfilingRegion region("fracta::bond_forces");
   compute_cell_stress(m.converted, m.converted_count, m.lattice_stiffness, m.bond_laws, m.elements,
                       m.nodes);
-  return compute_bond_forces(m.nodes, m.elements, m.bonds, m.bond_laws, dt);
+  BondStepResult r = compute_bond_forces(m.nodes, m.elements, m.bonds, m.bond_laws, dt);
+  // After the bonds: a cell one of them cracked this step gives up its volumetric term now.
+  r.fracture_energy += compute_cell_bulk_forces(m.nodes, m.elements, m.lattice_stiffness);
+  return r;
 }
 
 namespace {
@@ -392,6 +406,7 @@ bool Simulation::convert_cells() {
   // conversion changes no force, mass or moment it uses (new discs carry no moment yet), and the
   // one velocity it reads, the new discs' spin, is taken as v(n+1) (prestress_converted_bonds).
   const LatticeTotals before = lattice_totals(m.nodes, m.bonds, 0.0);
+  const double cells_before = cell_bulk_energy(m.nodes, m.elements, m.lattice_stiffness);
   // The slots and nodes this conversion activates go into the lists (state.hpp): collected
   // before the activation, inserted after it; a large batch rebuilds the lists instead.
   const bool lists = m.bonds.used.extent(0) > 0 && m.nodes.particle_list.extent(0) > 0;
@@ -426,11 +441,14 @@ bool Simulation::convert_cells() {
   // and the spin given to new discs): reported, not hidden (docs/physics.md 1.3). Negative when
   // the conversion adds energy.
   const LatticeTotals after = lattice_totals(m.nodes, m.bonds, 0.0);
+  const double cells_after = cell_bulk_energy(m.nodes, m.elements, m.lattice_stiffness);
   ledger_.energy.conversion += element_energy - (after.bond_elastic - before.bond_elastic) -
+                               (cells_after - cells_before) -
                                (after.rotational_kinetic - before.rotational_kinetic);
   // The new bonds stiffen the lattice: its bound, and so the step, can only go down.
   StableStep& bounds = ledger_.bounds;
-  bounds.lattice = bond_stable_dt(m.nodes, m.bonds, m.topology, 6, stable_dt_);
+  bounds.lattice =
+      bond_stable_dt(m.nodes, m.bonds, m.topology, 6, stable_dt_, cell_term_stiffness(m));
   bounds.step = std::min(bounds.step, bounds.lattice);
   ledger_.clock.dt = next_dt();
   return true;
@@ -471,7 +489,9 @@ HistoryRecord Simulation::history() {
   const ElementTotals et = element_totals(model_.elements);
   const LatticeTotals lt = lattice_totals(model_.nodes, model_.bonds, dt_nominal);
   r.energy.kinetic = nt.kinetic + lt.rotational_kinetic;
-  r.energy.internal = et.internal + lt.bond_elastic + e.contact_elastic;
+  r.energy.internal = et.internal + lt.bond_elastic +
+                      cell_bulk_energy(model_.nodes, model_.elements, model_.lattice_stiffness) +
+                      e.contact_elastic;
   r.energy.contact = e.contact_dissipated;
   r.energy.conversion = e.conversion;
   r.energy.plastic = e.element_plastic + lt.bond_plastic;

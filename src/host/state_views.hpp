@@ -52,6 +52,8 @@ void for_each_state_view(StateViews& a, StateViews& b, F&& f) {
   f("elements.cell_stress", e.cell_stress, se.cell_stress);
   f("elements.cell_state", e.cell_state, se.cell_state);
   f("elements.cell_cracked", e.cell_cracked, se.cell_cracked);
+  // Empty without the lattice's cell term (cell_forces.hpp).
+  f("elements.cell_volumetric_strain", e.cell_volumetric_strain, se.cell_volumetric_strain);
   f("bonds.state", bo.state, sb.state);
   f("bonds.material", bo.material, sb.material);  // set by the conversion that activates it
   f("bonds.kn", bo.kn, sb.kn);

@@ -12,13 +12,24 @@
 
 namespace fracta {
 
-// Lattice spring stiffnesses of the formulation (docs/physics.md 1.2), N/m:
-// k1 = E t / (1 + nu), k2 = nu E t / (1 - nu^2), ks = E t (1 - 3 nu) / (1 - nu^2), with
-// (E, nu) -> (E / (1 - nu^2), nu / (1 - nu)) in plane strain (paper Eq. 4). They give
-// C11 = (k1 + k2)/t, C12 = k2/t, C66 = (k2 + ks/2)/t for uniform strain with disc rotations equal
-// to the continuum rotation, independent of the cell size.
+// Lattice stiffnesses of the formulation (docs/physics.md 1.2), N/m. With the 2-D Lame constants
+// mu = E / (2 (1 + nu)), lambda = nu E / (1 - nu^2) (E, nu -> E / (1 - nu^2), nu / (1 - nu) in
+// plane strain, paper Eq. 4), the pair springs give C11 = (k1 + k2)/t, C12 = k2/t,
+// C66 = (k2 + ks/2)/t and each intact cell's volumetric term adds kv/t to C11 and C12, for
+// uniform strain with disc rotations equal to the continuum rotation, whatever the cell size.
+// Isotropy (C66 = mu) then needs k1 = 2 mu t and k2 + ks/2 = mu t, and C12 = lambda needs
+// k2 + kv = lambda t:
+//  - lambda <= mu (nu <= 1/3 in plane stress, 1/4 in plane strain): the pair lattice alone,
+//    k2 = lambda t, ks = 2 (mu - lambda) t, kv = 0 (the classical Poisson limit of central-force
+//    lattices: no pair lattice reaches lambda > mu);
+//  - beyond: k2 = mu t, ks = 0 and kv = (lambda - mu) t, the least many-body stiffness that lifts
+//    the limit. The distinct lattice spring model lifts it with shear springs on the local strain
+//    (Zhao, Fang & Zhao 2011, Int. J. Numer. Anal. Meth. Geomech. 35: 859-885); Li & He (2026,
+//    arXiv:2605.15209) with volumetric constraints, as here: an energy per intact cell
+//    (cell_forces.hpp). Continuous at lambda = mu, where ks and kv are both 0.
 struct LatticeStiffness {
   double k1 = 0, k2 = 0, ks = 0;
+  double kv = 0;  // volumetric stiffness of an intact cell (N/m): energy kv A0 tr(eps)^2 / 2
   double youngs_modulus_eff = 0, poisson_ratio_eff = 0;
 };
 
@@ -29,9 +40,15 @@ KOKKOS_INLINE_FUNCTION LatticeStiffness lattice_stiffness(double E, double nu, b
   const double nuf = plane_strain ? nu / (1.0 - nu) : nu;
   s.youngs_modulus_eff = Ef;
   s.poisson_ratio_eff = nuf;
-  s.k1 = Ef * thickness / (1.0 + nuf);
-  s.k2 = nuf * Ef * thickness / (1.0 - nuf * nuf);
-  s.ks = Ef * thickness * (1.0 - 3.0 * nuf) / (1.0 - nuf * nuf);
+  s.k1 = Ef * thickness / (1.0 + nuf);  // 2 mu t
+  if (nuf <= 1.0 / 3.0) {               // lambda <= mu
+    s.k2 = nuf * Ef * thickness / (1.0 - nuf * nuf);
+    s.ks = Ef * thickness * (1.0 - 3.0 * nuf) / (1.0 - nuf * nuf);
+  } else {
+    const double mu = Ef / (2.0 * (1.0 + nuf)), lambda = nuf * Ef / (1.0 - nuf * nuf);
+    s.k2 = mu * thickness;
+    s.kv = (lambda - mu) * thickness;
+  }
   return s;
 }
 
@@ -312,7 +329,8 @@ KOKKOS_INLINE_FUNCTION double element_rotation_rate(const Elements& el, const No
 
 // Initial bond forces of newly converted cells (docs/physics.md 1.3): the forces the lattice
 // carries under the element's elastic strain eps = C^-1 sigma, normal kn_e L n.eps.n and shear
-// ks_e L t.eps.n per contribution, so the conversion itself releases no stress wave. Also starts
+// ks_e L t.eps.n per contribution, and the cell term's tr(eps) where it has one, so the
+// conversion itself releases no stress wave. Also starts
 // the spin of discs that were not particles, and returns (via the reduction) the elastic energy
 // the elements held (J). Runs before activate_element_bonds adds the stiffness;
 // finish_converted_bonds then re-bases the normal springs.
@@ -357,6 +375,9 @@ inline double prestress_converted_bonds(const View<int*>& cells, int count,
         el.cell_strain_offset(e, 0) = green[0] - exx;
         el.cell_strain_offset(e, 1) = green[1] - eyy;
         el.cell_strain_offset(e, 2) = green[2] - exy;
+        // The volumetric cell term (cell_forces.hpp) starts from the same elastic strain.
+        if (el.cell_volumetric_strain.extent(0) > 0 && s.kv > 0.0)
+          el.cell_volumetric_strain(e) = exx + eyy;
         for (int a = 0; a < 6; ++a) {
           const int b = element_bonds(e, a);
           if (b < 0 || bonds.state(b) == kBondBroken) continue;

@@ -3,6 +3,7 @@
 // are before the safety factor dt_safety.
 #pragma once
 #include "kernels/compat.hpp"
+#include "kernels/conversion.hpp"
 #include "kernels/simd.hpp"
 #include "kernels/state.hpp"
 
@@ -79,11 +80,30 @@ KOKKOS_INLINE_FUNCTION T full_integration_stable_dt(const T (&x)[4], const T (&y
 // stiffness to every contact disc (particles and FE boundary nodes). bond_stable_dt returns
 // 2 / sqrt(lambda_max) (s), or a huge value if no bond.
 
-// What active bond b adds to the rows of its end s (0 or 1).
+// The volumetric cell term (cell_forces.hpp) of a square cell of side h (A0 b_a = (+-h, +-h) / 2)
+// adds to node a's translation row of M^-1/2 K M^-1/2 at most
+// kv A0 |b_a|_inf sum_b |b_b|_1 / sqrt(m_a m_b) = (kv / 2) sum_b 1 / sqrt(m_a m_b), the sum over
+// the cell's four corners, where a spring k on the diagonal (a, c) adds
+// 1.2071 k (1/m_a + 1/sqrt(m_a m_c)). With lumped masses within a factor 4 of each other the
+// ratio of the two is at most 1.52 (a heavy corner whose side neighbours are 4 times lighter),
+// so the bound counts 1.55 kv on each diagonal (each corner is the end of one diagonal per
+// cell); between equal masses that is 1.9 times what the cell needs, room for the geometric
+// stiffness kv tr(eps) of strained cells.
+inline constexpr double kCellTermDiagonalFactor = 1.55;
+KOKKOS_INLINE_FUNCTION double cell_term_on_diagonal(
+    const Bonds& bonds, const int b, const View<const LatticeStiffness*>& stiffness) {
+  return stiffness.extent(0) > 0 && bonds.kind(b) == kBondDiagonal
+             ? kCellTermDiagonalFactor * stiffness(bonds.material(b)).kv
+             : 0.0;
+}
+
+// What active bond b adds to the rows of its end s (0 or 1); cell_kv: the cell term it stands
+// for (cell_term_on_diagonal).
 KOKKOS_INLINE_FUNCTION void gershgorin_terms(const Nodes& nodes, const Bonds& bonds, const int b,
-                                             const int s, double& trans, double& rot) {
+                                             const int s, double& trans, double& rot,
+                                             const double cell_kv = 0.0) {
   const int i = bonds.nodes(b, s), j = bonds.nodes(b, 1 - s);
-  const double k = bonds.kn(b) + bonds.ks(b), ks = bonds.ks(b);
+  const double k = bonds.kn(b) + bonds.ks(b) + cell_kv, ks = bonds.ks(b);
   const double mi = nodes.mass(i), mj = nodes.mass(j);
   const double Ii = nodes.inertia(i), Ij = nodes.inertia(j);
   const double ri = nodes.radius(i), rj = nodes.radius(j);
@@ -100,13 +120,14 @@ KOKKOS_INLINE_FUNCTION void gershgorin_terms(const Nodes& nodes, const Bonds& bo
 struct GershgorinRows {
   Nodes nodes;
   Bonds bonds;
-  View<double* [2]> row;  // translation, rotation
+  View<double* [2]> row;                    // translation, rotation
+  View<const LatticeStiffness*> stiffness;  // per material, for the cell term; empty: none
 
   KOKKOS_INLINE_FUNCTION void operator()(const int b) const {
     if (bonds.state(b) != kBondActive) return;
     for (int s = 0; s < 2; ++s) {
       double trans, rot;
-      gershgorin_terms(nodes, bonds, b, s, trans, rot);
+      gershgorin_terms(nodes, bonds, b, s, trans, rot, cell_term_on_diagonal(bonds, b, stiffness));
       Kokkos::atomic_add(&row(bonds.nodes(b, s), 0), trans);
       Kokkos::atomic_add(&row(bonds.nodes(b, s), 1), rot);
     }
@@ -134,12 +155,13 @@ struct GershgorinBound {
   }
 };
 
-inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, int contact_allowance) {
+inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, int contact_allowance,
+                             const View<const LatticeStiffness*>& stiffness = {}) {
   if (!nodes.has_particles()) return 1e300;
   View<double* [2]> row("fracta::gershgorin_rows", nodes.count);  // translation, rotation
   if (bonds.count > 0)
     Kokkos::parallel_for("fracta::bond_gershgorin", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
-                         GershgorinRows{nodes, bonds, row});
+                         GershgorinRows{nodes, bonds, row, stiffness});
   double lambda = 0.0;
   Kokkos::parallel_reduce("fracta::bond_stable_dt", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
                           GershgorinBound{nodes, row, static_cast<double>(contact_allowance)},
@@ -170,10 +192,11 @@ struct StableDtWorkspace {
 };
 
 inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, const Topology& topology,
-                             int contact_allowance, StableDtWorkspace& ws) {
+                             int contact_allowance, StableDtWorkspace& ws,
+                             const View<const LatticeStiffness*>& stiffness = {}) {
   if (!nodes.has_particles()) return 1e300;
   if (nodes.particle_list.extent(0) == 0 || topology.node_bond_offset.extent(0) == 0)
-    return bond_stable_dt(nodes, bonds, contact_allowance);
+    return bond_stable_dt(nodes, bonds, contact_allowance, stiffness);
   const GershgorinBound bound{nodes, {}, static_cast<double>(contact_allowance)};
   if (ws.allowance != contact_allowance) {
     const auto disc = nodes.contact_disc;
@@ -215,7 +238,8 @@ inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, const Topol
             const int b = slots(q);
             if (bonds.state(b) != kBondActive) continue;
             double trans, rot;
-            gershgorin_terms(nodes, bonds, b, bonds.nodes(b, 0) == n ? 0 : 1, trans, rot);
+            gershgorin_terms(nodes, bonds, b, bonds.nodes(b, 0) == n ? 0 : 1, trans, rot,
+                             cell_term_on_diagonal(bonds, b, stiffness));
             row_trans += trans;
             row_rot += rot;
           }

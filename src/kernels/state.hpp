@@ -278,6 +278,13 @@ struct Elements {
   // cell stress's bound scales the stress (a product, not a division, every step); empty view
   // with the bonds'.
   View<double*> cell_inverse_strength_scale;
+  // Volumetric strain tr(eps) of each intact converted cell at its last evaluation, for the cell
+  // term of lattices beyond the pair lattice's Poisson limit (cell_forces.hpp); 0 for other
+  // elements and once the cell cracked. Empty view when no material has the term.
+  View<double*> cell_volumetric_strain;
+  // The chunks of every mesh element for the cell term's scatter (kernels/scatter.hpp; located
+  // in no list: the kernel skips what is not an intact converted cell). Empty with the view above.
+  ScatterPlan cell_scatter;
   int count = 0;  // all elements of the mesh
   int active_count = 0;
   int qp_per_element = 1;  // 1 (reduced + hourglass control) or 4 (2x2 Gauss)

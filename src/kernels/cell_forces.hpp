@@ -1,0 +1,172 @@
+// Cell-based (many-body) forces of the bonded disc lattice (docs/physics.md 1.2, "Poisson ratios
+// beyond the pair lattice"). A lattice of pair springs is isotropic only while its Lame constant
+// lambda is at most mu (nu <= 1/3 in plane stress, 1/4 in plane strain): the classical Poisson
+// limit of central-force lattices. Beyond it each intact converted cell adds the volumetric
+// energy
+//
+//   W = kv A0 tr(eps)^2 / 2,   eps = E - offset,
+//
+// with E the cell's Green-Lagrange strain from its four discs (reference one-point gradients, so
+// rotation invariant), offset its strain beyond the elastic part at conversion (as the cell
+// stress: bond_forces.hpp), A0 its reference area and kv = (lambda - mu) t (LatticeStiffness).
+// Its forces are f_a = -dW/dx_a = -kv tr(eps) F (A0 b_a), with F the deformation gradient and b_a
+// the reference gradients (dE/dx_a = sym(F^T ...) gives d tr(E)/dx_a = F b_a): they sum to zero
+// and, W being invariant under rotations of the current positions, carry no net moment. The term
+// fails with the cell: once a bond of the cell broke or started to soften (Elements::cell_cracked)
+// it applies no force, and the energy it held is released to the `fracture` term as the bonds'
+// is, kv A0 tr_old tr_new / 2 (what it held at the last step plus the trapezoidal work on it in
+// this one, with the force now 0).
+//
+// One work item is one mesh element; elements that are not intact converted cells of a material
+// with kv > 0 return at once. On CPUs the items run by the chunks of Elements::cell_scatter (no
+// atomics, a fixed order of the sums at each node: kernels/scatter.hpp), on GPUs atomically.
+#pragma once
+#include "kernels/compat.hpp"
+#include "kernels/conversion.hpp"
+#include "kernels/scatter.hpp"
+#include "kernels/state.hpp"
+
+namespace fracta {
+
+struct CellBulkForces {
+  Nodes nodes;
+  Elements elements;
+  View<const LatticeStiffness*> stiffness;
+  bool atomic = true;
+
+  // tr(eps) of cell e and, when forces is set, adds its forces f_a = -p F (A0 b_a), p = kv tr.
+  KOKKOS_INLINE_FUNCTION double volumetric_strain(const int e, const double kv,
+                                                  const bool forces) const {
+    double x0[4], y0[4], ux[4], uy[4];
+    int node[4];
+    for (int a = 0; a < 4; ++a) {
+      node[a] = elements.nodes(e, a);
+      x0[a] = nodes.x0(node[a], 0);
+      y0[a] = nodes.x0(node[a], 1);
+      ux[a] = nodes.x(node[a], 0) - x0[a];
+      uy[a] = nodes.x(node[a], 1) - y0[a];
+    }
+    // A0 b_a: the reference gradients times the reference area (no division).
+    double gx[4], gy[4];
+    const double A0 = 0.5 * ((x0[2] - x0[0]) * (y0[3] - y0[1]) + (x0[1] - x0[3]) * (y0[2] - y0[0]));
+    for (int a = 0; a < 4; ++a) {
+      gx[a] = 0.5 * (y0[(a + 1) % 4] - y0[(a + 3) % 4]);
+      gy[a] = 0.5 * (x0[(a + 3) % 4] - x0[(a + 1) % 4]);
+    }
+    double h00 = 0, h01 = 0, h10 = 0, h11 = 0;  // displacement gradient H = F - I, times A0
+    for (int a = 0; a < 4; ++a) {
+      h00 += ux[a] * gx[a];
+      h01 += ux[a] * gy[a];
+      h10 += uy[a] * gx[a];
+      h11 += uy[a] * gy[a];
+    }
+    h00 /= A0;
+    h01 /= A0;
+    h10 /= A0;
+    h11 /= A0;
+    // tr E = tr(H) + |H|^2 / 2, less the offset's trace.
+    const double trace = h00 + h11 + 0.5 * (h00 * h00 + h01 * h01 + h10 * h10 + h11 * h11) -
+                         elements.cell_strain_offset(e, 0) - elements.cell_strain_offset(e, 1);
+    if (forces) {
+      const double p = kv * trace;
+      for (int a = 0; a < 4; ++a) {
+        const double fx = -p * ((1.0 + h00) * gx[a] + h01 * gy[a]);
+        const double fy = -p * (h10 * gx[a] + (1.0 + h11) * gy[a]);
+        scatter_add(&nodes.f(node[a], 0), fx, atomic);
+        scatter_add(&nodes.f(node[a], 1), fy, atomic);
+      }
+    }
+    return trace;
+  }
+
+  // Cell e: forces while intact; the energy it held (J, into released) when it cracked since.
+  KOKKOS_INLINE_FUNCTION void cell(const int e, double& released) const {
+    if (elements.alive(e)) return;  // an FE element (or a rigid body's): not a lattice cell
+    const double kv = stiffness(elements.material(e)).kv;
+    if (!(kv > 0.0)) return;
+    const double old = elements.cell_volumetric_strain(e);
+    if (!elements.cell_cracked(e)) {
+      elements.cell_volumetric_strain(e) = volumetric_strain(e, kv, true);
+      return;
+    }
+    if (old == 0.0) return;  // released already (or never strained)
+    const double now = volumetric_strain(e, kv, false);
+    double x0[4], y0[4];
+    for (int a = 0; a < 4; ++a) {
+      x0[a] = nodes.x0(elements.nodes(e, a), 0);
+      y0[a] = nodes.x0(elements.nodes(e, a), 1);
+    }
+    const double A0 = 0.5 * ((x0[2] - x0[0]) * (y0[3] - y0[1]) + (x0[1] - x0[3]) * (y0[2] - y0[0]));
+    released += 0.5 * kv * A0 * old * now;
+    elements.cell_volumetric_strain(e) = 0.0;
+  }
+
+  // Atomic path (GPUs): one element per work item.
+  KOKKOS_INLINE_FUNCTION void operator()(const int e, double& released) const { cell(e, released); }
+  // Chunk path (CPUs): the elements [begin, end) in order (the plan is located in no list).
+  KOKKOS_INLINE_FUNCTION void chunk(const int begin, const int end, double& released) const {
+    for (int e = begin; e < end; ++e) cell(e, released);
+  }
+};
+
+// The plan of Elements::cell_scatter: every mesh element, in no list (built once).
+inline void build_cell_scatter_plan(Elements& elements) {
+  const auto element_nodes = elements.nodes;
+  build_scatter_plan(
+      elements.cell_scatter, elements.count,
+      KOKKOS_LAMBDA(const int e, int& lo, int& hi) {
+        lo = hi = element_nodes(e, 0);
+        for (int a = 1; a < 4; ++a) {
+          lo = min_(lo, element_nodes(e, a));
+          hi = max_(hi, element_nodes(e, a));
+        }
+      },
+      View<int*>(), elements.count);
+}
+
+// Adds the cell term's forces to nodes.f and returns the energy of the cells that cracked since
+// the last call (J). Nothing to do (and no launch) when no material has the term.
+inline double compute_cell_bulk_forces(const Nodes& nodes, const Elements& elements,
+                                       const View<const LatticeStiffness*>& stiffness) {
+  if (elements.cell_volumetric_strain.extent(0) == 0 || elements.count == 0) return 0.0;
+  const ScatterPlan& plan = elements.cell_scatter;
+  double released = 0.0;
+  if (plan.usable(elements.count)) {
+    released = for_each_chunk<Kokkos::Sum<double>>(
+        "fracta::cell_bulk_forces", plan, CellBulkForces{nodes, elements, stiffness, false});
+  } else {
+    Kokkos::parallel_reduce(
+        "fracta::cell_bulk_forces", Kokkos::RangePolicy<ExecSpace>(0, elements.count),
+        CellBulkForces{nodes, elements, stiffness, true}, Kokkos::Sum<double>(released));
+  }
+  return released;
+}
+
+// The energy the intact cells' volumetric term holds (J), from the strains of their last
+// evaluation (compute_cell_bulk_forces; the conversion sets a new cell's): sum kv A0 tr^2 / 2.
+inline double cell_bulk_energy(const Nodes& nodes, const Elements& elements,
+                               const View<const LatticeStiffness*>& stiffness) {
+  if (elements.cell_volumetric_strain.extent(0) == 0 || elements.count == 0) return 0.0;
+  const auto trace = elements.cell_volumetric_strain;
+  const auto element_nodes = elements.nodes;
+  const auto material = elements.material;
+  const auto x0 = nodes.x0;
+  double energy = 0.0;
+  Kokkos::parallel_reduce(
+      "fracta::cell_bulk_energy", Kokkos::RangePolicy<ExecSpace>(0, elements.count),
+      KOKKOS_LAMBDA(const int e, double& sum) {
+        const double tr = trace(e);
+        if (tr == 0.0) return;
+        double x[4], y[4];
+        for (int a = 0; a < 4; ++a) {
+          x[a] = x0(element_nodes(e, a), 0);
+          y[a] = x0(element_nodes(e, a), 1);
+        }
+        const double A0 = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
+        sum += 0.5 * stiffness(material(e)).kv * A0 * tr * tr;
+      },
+      energy);
+  return energy;
+}
+
+}  // namespace fracta
