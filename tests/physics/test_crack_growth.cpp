@@ -45,6 +45,7 @@ double release_ratio(double p, double t) {
 
 struct CrackSample {
   double t, tip, fracture;  // s, crack advance of the broken bonds (m), fracture energy (J)
+  bool advanced = false;    // taken at the step the broken tip reached a new cell
 };
 
 struct CrackRun {
@@ -56,7 +57,7 @@ struct CrackRun {
 };
 
 // Runs the case at face pressure p (Pa), tensile strength sigma_t (Pa) and end time (s), sampling
-// every 0.2 us: the crack advance (the largest x of a
+// every 0.2 us and at every step in which a bond broke: the crack advance (the largest x of a
 // broken bond across the plane, less the pre-crack), the fracture energy, and when the first
 // bond began to soften and broke.
 CrackRun run_crack(double p, double sigma_t, double end_time) {
@@ -70,14 +71,17 @@ CrackRun run_crack(double p, double sigma_t, double end_time) {
   r.thickness = c.sim.thickness;
   r.h = c.bodies[0].cell_size;
   const double tol = 0.25 * r.h;
-  double next_sample = 0.0;
+  double next_sample = 0.0, last_tip = kPreCrack;
+  long broken = 0;
   while (sim.time() < c.sim.end_time * (1 - 1e-12) && !sim.failed()) {
     sim.step();
     const HistoryRecord h = sim.history();
     if (r.t_soften < 0 && h.energy.fracture > 0) r.t_soften = sim.time();
     if (r.t_break < 0 && h.count.broken_bonds > 0) r.t_break = sim.time();
-    if (sim.time() + 1e-12 < next_sample) continue;
-    next_sample += 0.2e-6;
+    const bool broke = h.count.broken_bonds != broken;
+    broken = h.count.broken_bonds;
+    if (sim.time() + 1e-12 < next_sample && !broke) continue;
+    if (sim.time() + 1e-12 >= next_sample) next_sample += 0.2e-6;
     const Model& m = sim.model();
     const auto state = Kokkos::create_mirror_view_and_copy(HostSpace(), m.bonds.state);
     const auto ends = Kokkos::create_mirror_view_and_copy(HostSpace(), m.bonds.nodes);
@@ -97,18 +101,22 @@ CrackRun run_crack(double p, double sigma_t, double end_time) {
       if (std::fabs(x0(i, 0) - x0(j, 0)) < tol) tip = std::max(tip, x0(i, 0));
     }
     r.off_plane_broken = off_plane;
-    r.samples.push_back({sim.time(), tip - kPreCrack, h.energy.fracture});
+    r.samples.push_back({sim.time(), tip - kPreCrack, h.energy.fracture, tip > last_tip});
+    last_tip = tip;
   }
   EXPECT_FALSE(sim.failed()) << sim.failure();
   return r;
 }
 
 // Fracture energy per unit crack area while the crack runs (advance beyond two cells): the
-// least-squares slope of the fracture energy over the advance, per thickness (J/m^2).
+// least-squares slope of the fracture energy over the advance, per thickness (J/m^2), from the
+// samples taken when the broken tip reaches a new cell. (The tip moves cell by cell while the
+// energy grows smoothly; samples at fixed times caught the staircase at a phase that moved with
+// the time step: 3.64 and 4.03 J/m^2 at dt_safety 0.85 with stable bounds 5 % apart.)
 double dissipation_per_area(const CrackRun& r) {
   double n = 0, sa = 0, se = 0, saa = 0, sae = 0;
   for (const CrackSample& s : r.samples)
-    if (s.tip > 2 * r.h) {
+    if (s.advanced && s.tip > 2 * r.h) {
       n += 1;
       sa += s.tip;
       se += s.fracture;
