@@ -23,6 +23,10 @@ time) into the results directory.
     elements, largest relative energy error over the run; depth and velocity errors are
     relative to the reference run: the finest cell size with the case's own settings
     (conversion_strain 0.02, viscous hourglass control).
+    Then the impact speed: the same scene to 40 us with the projectile at 50 m/s to 10 km/s, at
+    the case's cells and half of them. Reported: steps, wall time, the smallest step over the
+    initial one, the largest relative energy error, the converted elements and the projectile's
+    elements left: where the method holds, and what the fast impacts cost.
 
 (c) fragmentation: cases/validation/bar_fragmentation_e10.toml (a ceramic bar at a uniform
     strain rate, eps_dot / eps_dot_0 = 10, to 10 t0), cell size x seed of the strength scatter.
@@ -32,7 +36,7 @@ time) into the results directory.
     wall time per seed: what an ensemble and a finer lattice buy and cost.
 
 Usage: /usr/bin/python3 bench/tradeoff.py [--fracta build/fracta] [--out bench/results]
-                                          [--study plate|penetration|fragmentation|all] [--quick]
+                                 [--study plate|penetration|speed|fragmentation|all] [--quick]
 """
 import argparse
 import csv
@@ -71,6 +75,9 @@ PEN_CONVERSION = [0.01, 0.02, 0.05]
 PEN_HOURGLASS = ["viscous", "stiffness"]
 PEN_END = 80e-6  # s, the case's own end time
 PEN_GAP = 0.002  # m, projectile above the slab in the case file
+SPEED_MPS = [50, 500, 2000, 5000, 10000]
+SPEED_CELLS_MM = [3.333, 1.667]
+SPEED_END = 40e-6  # s
 
 FRAG_CASE = "validation/bar_fragmentation_e10.toml"
 FRAG_CELLS_UM = [10.0, 5.0, 2.5]
@@ -276,6 +283,48 @@ def study_penetration(fracta, out, tmp, quick):
     return rows
 
 
+def speed_metrics(path):
+    with h5py.File(path, "r") as f:
+        wall = float(f["run"].attrs["wall_seconds"])
+        steps = int(f["run"].attrs["steps"])
+        h = f["history"]
+        dt = h["dt"][:]
+        elements = h["count"]["elements"][:]
+        energy = float(np.max(np.abs(h["energy"]["error"][:])))
+        conversions = int(h["count"]["conversions"][-1])
+        mass = h["mass"][:]
+    # dt[-1] may be the step shortened to land on end_time.
+    return dict(wall_s=wall, steps=steps, dt_min_over_initial=float(dt[:-1].min() / dt[0]),
+                energy_error=energy, conversions=conversions, elements_left=int(elements[-1]),
+                mass_change=float(np.max(np.abs(mass - mass[0])) / mass[0]))
+
+
+def study_speed(fracta, out, tmp, quick):
+    cells = SPEED_CELLS_MM[:1] if quick else SPEED_CELLS_MM
+    rows = []
+    for h in cells:
+        for v in SPEED_MPS:
+            path = os.path.join(tmp, "speed.h5")
+            rc, msg = run_fracta(fracta, "penetration.toml", [
+                f"body.slab.cell_size={h * 1e-3:.9g}", f"body.projectile.cell_size={h * 1e-3:.9g}",
+                f"body.projectile.initial_velocity=[0.0, {-float(v)}]",
+                f"simulation.end_time={SPEED_END}", "simulation.output_interval=1.0",
+                'output.fields=["velocity"]'], path)
+            row = dict(cell_mm=h, speed_mps=v, status=rc, message=msg)
+            if rc == 0:
+                row.update(speed_metrics(path))
+            rows.append(row)
+            print(f"speed {v} m/s h {h:.4g} mm: " +
+                  (f"{row['steps']} steps, {row['wall_s']:.2f} s, smallest step "
+                   f"{row['dt_min_over_initial']:.2f} of the initial, energy error "
+                   f"{100 * row['energy_error']:.2f}%, {row['elements_left']} elements left"
+                   if rc == 0 else f"exit {rc}: {msg}"), flush=True)
+    write_csv(rows, ["cell_mm", "speed_mps", "status", "steps", "wall_s", "dt_min_over_initial",
+                     "energy_error", "conversions", "elements_left", "mass_change", "message"],
+              os.path.join(out, "tradeoff_speed.csv"))
+    return rows
+
+
 def study_fragmentation(fracta, out, tmp, quick):
     cells = FRAG_CELLS_UM[:2] if quick else FRAG_CELLS_UM
     seeds = FRAG_SEEDS[:2] if quick else FRAG_SEEDS
@@ -322,7 +371,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--fracta", default=os.path.join(ROOT, "build", "fracta"))
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
-    ap.add_argument("--study", choices=["plate", "penetration", "fragmentation", "all"],
+    ap.add_argument("--study", choices=["plate", "penetration", "speed", "fragmentation", "all"],
                     default="all")
     ap.add_argument("--quick", action="store_true", help="two cell sizes only (pipeline check)")
     args = ap.parse_args()
@@ -332,6 +381,9 @@ def main():
             study_plate(args.fracta, args.out, tmp, args.quick)
         if args.study in ("penetration", "all"):
             study_penetration(args.fracta, args.out, tmp, args.quick)
+            study_speed(args.fracta, args.out, tmp, args.quick)
+        if args.study == "speed":
+            study_speed(args.fracta, args.out, tmp, args.quick)
         if args.study in ("fragmentation", "all"):
             study_fragmentation(args.fracta, args.out, tmp, args.quick)
     with open(os.path.join(args.out, "tradeoff_machine.txt"), "w") as f:

@@ -140,6 +140,22 @@ def penetration_tradeoff_block(results):
                    f"exit {r['status']}"] for r in rows])
 
 
+def speed_tradeoff_block(results):
+    path = os.path.join(results, "tradeoff_speed.csv")
+    if not os.path.exists(path):
+        return "(not run)"
+    rows = read_csv(path)
+    ok = lambda r: r["status"] == "0"  # noqa
+    return table(["cell (mm)", "impact speed (m/s)", "exit", "steps", "wall (s)",
+                  "smallest step / initial", "energy err %", "converted", "elements left"],
+                 [[r["cell_mm"], r["speed_mps"], r["status"], r["steps"] if ok(r) else "-",
+                   fmt(float(r["wall_s"]), ".2f") if ok(r) else "-",
+                   fmt(float(r["dt_min_over_initial"]), ".2f") if ok(r) else "-",
+                   fmt(100 * float(r["energy_error"]), ".2f") if ok(r) else "-",
+                   r["conversions"] if ok(r) else "-", r["elements_left"] if ok(r) else "-"]
+                  for r in rows])
+
+
 def fragmentation_tradeoff_block(results):
     path = os.path.join(results, "tradeoff_fragmentation.csv")
     if not os.path.exists(path):
@@ -180,6 +196,7 @@ def main():
         "paper": paper_block(args.results),
         "tradeoff_plate": plate_block(args.results),
         "tradeoff_penetration": penetration_tradeoff_block(args.results),
+        "tradeoff_speed": speed_tradeoff_block(args.results),
         "tradeoff_fragmentation": fragmentation_tradeoff_block(args.results),
         "output_cost": output_cost_block(args.results),
     }

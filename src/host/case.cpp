@@ -643,6 +643,7 @@ const KeyList kMaterialCommonKeys = {"name",
                                      "poisson_ratio",
                                      "tensile_strength",
                                      "conversion_strain",
+                                     "conversion_length_ratio",
                                      "weibull_modulus",
                                      "strength_spread",
                                      "rate_dependence"};
@@ -717,6 +718,8 @@ Material read_material(const Reader& r, Names& names) {
   m.tensile_strength = mc ? r.number("tensile_strength", Range::ge(0))
                           : r.number("tensile_strength", Range::ge(0), 0.0);
   m.conversion_strain = r.number("conversion_strain", Range::gt(0), mc ? 0.02 : 0.5);
+  m.conversion_length_ratio =
+      r.number("conversion_length_ratio", Range::ge(0).lt(1), kDefaultConversionLengthRatio);
   if (m.model == MaterialModel::bilinear_j2) {
     m.yield_stress = r.number("yield_stress", Range::gt(0));
     m.plastic_modulus = read_plastic_modulus(r, m.youngs_modulus);

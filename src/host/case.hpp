@@ -56,6 +56,12 @@ struct NodeSelector {
   Shape shape;
 };
 
+// Default of [[material]] conversion_length_ratio: an adaptive element converts once its
+// characteristic length (that of its stable step) is below 0.3 of its initial one, so no element
+// of an adaptive body can take the step below about 0.3 of its initial value by distortion
+// (docs/physics.md 1.3).
+constexpr double kDefaultConversionLengthRatio = 0.3;
+
 struct Material {
   std::string name;
   MaterialModel model = MaterialModel::elastic;
@@ -68,9 +74,12 @@ struct Material {
   double friction_angle = 0;     // rad (file: degrees) (mohr_coulomb)
   double tensile_strength = 0;   // Pa; tension cut-off (mohr_coulomb) and bond strength; 0 = none
   double conversion_strain = 0;  // equivalent plastic strain that converts an element
-  double fracture_energy = 0;    // J/m^2, cohesive bond softening; 0 = brittle bonds
-  double weibull_modulus = 0;    // m of the bonds' strength factors (unit mean); 0 = uniform
-  double strength_spread = 0;    // or factors uniform on [1 - spread, 1 + spread]
+  // An element converts when its characteristic length has shrunk below this fraction of its
+  // initial one (distortion, compression): its stable step is then as much below its initial.
+  double conversion_length_ratio = kDefaultConversionLengthRatio;
+  double fracture_energy = 0;  // J/m^2, cohesive bond softening; 0 = brittle bonds
+  double weibull_modulus = 0;  // m of the bonds' strength factors (unit mean); 0 = uniform
+  double strength_spread = 0;  // or factors uniform on [1 - spread, 1 + spread]
   bool random_strength() const { return weibull_modulus > 0.0 || strength_spread > 0.0; }
   // Dynamic increase factors of the bond strength and fracture energy against the bond's strain
   // rate (1/s, increasing); empty = rate independent.

@@ -1,5 +1,7 @@
 #include "host/contact.hpp"
 
+#include <cmath>
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -197,10 +199,20 @@ void ContactSystem::set_all_pairs(bool on) {
 bool ContactSystem::update(const Nodes& nodes) {
   if (built_) {
     const double half = 0.5 * skin_;
-    if (max_displacement_sq(nodes, discs_, x_build_) <= half * half) return false;
+    const DiscMotion motion = disc_motion(nodes, discs_, x_build_);
+    max_speed_ = std::sqrt(motion.speed_sq);
+    if (motion.displacement_sq <= half * half) return false;
+    rebuild(nodes);
+    return true;
   }
-  rebuild(nodes);
+  rebuild(nodes);  // the build positions are those of the discs now
+  max_speed_ = std::sqrt(disc_motion(nodes, discs_, x_build_).speed_sq);
   return true;
+}
+
+double ContactSystem::motion_bound() const {
+  // Half the skin per step at the fastest disc's speed (see contact.hpp).
+  return max_speed_ > 0.0 ? 0.5 * skin_ / max_speed_ : 1e300;
 }
 
 void ContactSystem::rebuild(const Nodes& nodes) {

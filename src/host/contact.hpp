@@ -50,8 +50,15 @@ class ContactSystem {
   // order, duplicates ignored. skin: Verlet skin (m), >= 0 (0 = rebuild whenever a disc moves).
   ContactSystem(std::vector<int> disc_nodes, const ContactParams& params, double skin);
 
-  // Rebuilds the candidate list if needed; returns true if it did.
+  // Rebuilds the candidate list if needed; returns true if it did. Also measures the fastest
+  // disc's speed (motion_bound).
   bool update(const Nodes& nodes);
+  // The step (s) in which the fastest disc of the last update moves half the skin: the solver's
+  // step stays below it, so a disc never moves more than skin/2 in one step, two discs close by
+  // at most the skin, and contact starts with an overlap of at most the skin (a quarter cell),
+  // whatever the closing speed: no disc can pass through another between two searches
+  // (docs/physics.md 1.4, "Contact motion"). 1e300 when nothing moves.
+  double motion_bound() const;
   ContactStepResult compute_forces(const Nodes& nodes, const Topology& topo, double dt);
 
   long candidate_count() const { return pair_count_; }
@@ -154,6 +161,7 @@ class ContactSystem {
   bool built_ = false;
   bool all_pairs_ = false;
   double skin_ = 0;
+  double max_speed_ = 0;  // m/s, the fastest disc at the last update
   ContactLaw law_;
 };
 

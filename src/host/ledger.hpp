@@ -22,6 +22,7 @@ struct StepClock {
 struct StableStep {
   double step = 0.0;       // the last evaluation's: min(FE, lattice); negative: an inverted element
   double lattice = 1e300;  // the bond network's Gershgorin bound; lowered by conversions
+  double motion = 1e300;   // the contact discs' motion bound (ContactSystem::motion_bound)
 };
 
 // Energies since t = 0 (J). The balance (Simulation::history) is

@@ -27,6 +27,7 @@ MaterialLaw material_law(const Material& m, Formulation f) {
   law.friction_angle = m.friction_angle;
   law.tensile_strength = m.tensile_strength;
   law.conversion_strain = m.conversion_strain;
+  law.conversion_length_ratio = m.conversion_length_ratio;
   cache_derived(law);
   return law;
 }
@@ -819,6 +820,25 @@ Model build_model(const Case& c) {
   el.hourglass_disp = decltype(el.hourglass_disp)("fracta::element_hourglass_disp", ne);
   el.hourglass_force = decltype(el.hourglass_force)("fracta::element_hourglass_force", ne);
   el.recoverable_work = View<double*>("fracta::element_recoverable_work", ne);
+  // Reference sum b.b of the centre gradients, for the distortion criterion of adaptive bodies.
+  if (std::count(m.element_method.begin(), m.element_method.end(), BodyMethod::adaptive) > 0) {
+    std::vector<double> norm2(ne);
+    for (int e = 0; e < ne; ++e) {
+      double x[4], y[4];
+      for (int a = 0; a < 4; ++a) {
+        x[a] = m.position[m.element_nodes[e][a]][0];
+        y[a] = m.position[m.element_nodes[e][a]][1];
+      }
+      const double twice_area = (x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]);
+      double sum = 0.0;
+      for (int a = 0; a < 4; ++a) {
+        const double dy = y[(a + 1) % 4] - y[(a + 3) % 4], dx = x[(a + 3) % 4] - x[(a + 1) % 4];
+        sum += dx * dx + dy * dy;
+      }
+      norm2[e] = sum / (twice_area * twice_area);
+    }
+    el.reference_gradient_norm2 = to_device_1d<double>("reference_gradient_norm2", norm2);
+  }
   update_scatter_plan(el);
 
   model.fe.thickness = c.sim.thickness;

@@ -99,7 +99,10 @@ inline ConversionCriterion conversion_criterion(const Model& m) {
           m.elements.epeq,
           m.elements.stress,
           m.elements.qp_per_element,
-          m.scene.sim.conversion_on_tension};
+          m.scene.sim.conversion_on_tension,
+          m.elements.nodes,
+          m.nodes.x,
+          m.elements.reference_gradient_norm2};
 }
 
 }  // namespace fracta

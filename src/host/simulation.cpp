@@ -154,6 +154,12 @@ std::string restart_command(const Case& c, const std::string& checkpoint_path) {
 namespace {
 // The per-material stiffness the lattice's stable step reads for the volumetric cell term
 // (stable_dt.hpp); empty when no cell has the term, so other scenes read nothing more.
+// Contacts the lattice's stable bound allows each disc: 6 at the full penalty stiffness, their
+// dampers counted (damped_contact_allowance).
+double contact_allowance(const Model& m) {
+  return damped_contact_allowance(6.0, m.scene.contact.damping_ratio);
+}
+
 View<const LatticeStiffness*> cell_term_stiffness(const Model& m) {
   return m.elements.cell_volumetric_strain.extent(0) > 0
              ? View<const LatticeStiffness*>(m.lattice_stiffness)
@@ -172,8 +178,9 @@ Simulation::Simulation(const Case& c) : model_(build_model(c)) {
   // The bond network's bound: bonds only weaken or break, so it stays valid until a conversion
   // adds stiffness; it allows 6 contacts per disc.
   stable_dt_.cache = true;
-  ledger_.bounds.lattice = bond_stable_dt(model_.nodes, model_.bonds, model_.topology, 6,
-                                          stable_dt_, cell_term_stiffness(model_));
+  ledger_.bounds.lattice =
+      bond_stable_dt(model_.nodes, model_.bonds, model_.topology, contact_allowance(model_),
+                     stable_dt_, cell_term_stiffness(model_));
   initial_forces();
   if (ledger_.bounds.step <= 0.0)
     throw InputError(c.path, c.sim.pos.line, "body", "an element has zero or negative area");
@@ -211,7 +218,7 @@ void Simulation::step(bool defer_kick) {
   ledger_.add(fe);
   ledger_.add(lattice);
   ledger_.add(contact, dt);
-  ledger_.bounds.step = combined_stable_dt(fe.dt_min, ledger_.bounds.lattice);
+  ledger_.bounds.step = step_bound(fe);
   // This evaluation's bar forces act over this step's second half kick and the next's first.
   boundary_forces(0.5 * (dt + next_dt()));
   kick(defer_kick);
@@ -238,7 +245,7 @@ void Simulation::initial_forces() {
   ledger_.add(bond_forces(0.0));
   contact_search();
   ledger_.add(contact_forces(0.0), 0.0);
-  ledger_.bounds.step = combined_stable_dt(fe.dt_min, ledger_.bounds.lattice);
+  ledger_.bounds.step = step_bound(fe);
   boundary_forces(0.5 * next_dt());  // f(0) acts over the first half kick
 }
 
@@ -308,6 +315,14 @@ void Simulation::contact_search() {
   if (!contact_possible(model_)) return;
   ProfilingRegion region("fracta::contact_search");
   model_.contacts->update(model_.nodes);
+  ledger_.bounds.motion = model_.contacts->motion_bound();
+}
+
+double Simulation::step_bound(const FeStepSums& fe) const {
+  const StableStep& b = ledger_.bounds;
+  const double stable = combined_stable_dt(fe.dt_min, b.lattice);
+  // (A negative bound flags an inverted element and must stay so.)
+  return stable > 0.0 && b.motion < stable ? b.motion : stable;
 }
 
 ContactPhaseSums Simulation::contact_forces(double dt) {
@@ -390,14 +405,14 @@ bool Simulation::convert_cells() {
       m.lists.keep.extent(0) >= static_cast<size_t>(pending)) {
     n = compact_candidates(m.elements, m.element_adaptive, m.materials, on_tension,
                            conversion_candidates_, pending, m.lists.keep, m.lists.sorted,
-                           m.new_cells, m.active_scratch);
+                           m.new_cells, m.active_scratch, m.nodes.x);
   } else {
     if (conversion_flag_.extent(0) < static_cast<size_t>(m.elements.count)) {
       conversion_flag_ = View<int*>("fracta::conversion_flag", m.elements.count);
       conversion_position_ = View<int*>("fracta::conversion_position", m.elements.count);
     }
     n = compact_converted(m.elements, m.element_adaptive, m.materials, on_tension, m.new_cells,
-                          m.active_scratch, conversion_flag_, conversion_position_);
+                          m.active_scratch, conversion_flag_, conversion_position_, m.nodes.x);
   }
   ledger_.counts.conversions_this_step = n;
   if (n == 0) return false;
@@ -447,8 +462,8 @@ bool Simulation::convert_cells() {
                                (after.rotational_kinetic - before.rotational_kinetic);
   // The new bonds stiffen the lattice: its bound, and so the step, can only go down.
   StableStep& bounds = ledger_.bounds;
-  bounds.lattice =
-      bond_stable_dt(m.nodes, m.bonds, m.topology, 6, stable_dt_, cell_term_stiffness(m));
+  bounds.lattice = bond_stable_dt(m.nodes, m.bonds, m.topology, contact_allowance(m), stable_dt_,
+                                  cell_term_stiffness(m));
   bounds.step = std::min(bounds.step, bounds.lattice);
   ledger_.clock.dt = next_dt();
   return true;

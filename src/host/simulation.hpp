@@ -75,11 +75,14 @@ class Simulation {
   // The phases of a step, in the order step() runs them (docs/physics.md 2). Each force phase
   // adds into the node accumulators and returns its sums; a phase the scene cannot need (bonds
   // before any conversion, contact within one intact body) does nothing.
-  void kick_drift();                           // v(n+1/2), x(n+1); rigid bodies drift
-  void apply_loads();                          // f_ext at the new time
-  FeStepSums element_forces(double dt);        // flags elements that meet their criterion
-  BondStepResult bond_forces(double dt);       // cell stresses, bond laws, failure
-  void contact_search();                       // candidate pairs (Verlet list)
+  void kick_drift();                      // v(n+1/2), x(n+1); rigid bodies drift
+  void apply_loads();                     // f_ext at the new time
+  FeStepSums element_forces(double dt);   // flags elements that meet their criterion
+  BondStepResult bond_forces(double dt);  // cell stresses, bond laws, failure
+  void contact_search();                  // candidate pairs (Verlet list)
+  // The step's bound (s): the elements' and the lattice's stable bounds and the contact discs'
+  // motion bound; negative when an element inverted.
+  double step_bound(const FeStepSums& fe) const;
   ContactPhaseSums contact_forces(double dt);  // disc contact law on the candidates
   // Bars push their faces, supports hold or let go (kernels/boundaries.hpp), with the forces of
   // this evaluation, which act over the kicks of `kick_interval` (s) until the next one.

@@ -131,8 +131,27 @@ inline void activate_element_bonds(const View<int*>& converted, int count,
 
 namespace fracta {
 
+// Distortion of a quadrilateral (corners x, y counter-clockwise): its characteristic length
+// l = 1 / sqrt(sum b.b) of the centre gradients b_a = (y_{a+1} - y_{a-1}, x_{a-1} - x_{a+1}) / 2A,
+// the length of its stable step (stable_dt.hpp), against the reference value l0 = 1 /
+// sqrt(reference_norm2): true when l <= ratio l0, i.e. 4A^2 reference_norm2 <= ratio^2
+// sum |2A b_a|^2, written without a division so that a degenerate or collapsing element
+// (A -> 0) counts as distorted. T: double, or one element per lane (simd.hpp).
+template <class T>
+KOKKOS_INLINE_FUNCTION auto length_ratio_below(const T (&x)[4], const T (&y)[4],
+                                               const T& reference_norm2, double ratio) {
+  const T twice_area = (x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]);
+  T sum = splat<T>(0.0);
+  for (int a = 0; a < 4; ++a) {
+    const T dy = y[(a + 1) % 4] - y[(a + 3) % 4], dx = x[(a + 3) % 4] - x[(a + 1) % 4];
+    sum += dx * dx + dy * dy;
+  }
+  return twice_area * twice_area * reference_norm2 <= ratio * ratio * sum;
+}
+
 // 1 if active element i has reached its conversion criterion: the material's conversion strain
-// (max over quadrature points) or, with on_tension, the tension cut-off (max principal stress).
+// (max over quadrature points) or, with on_tension, the tension cut-off (max principal stress),
+// or its distortion (conversion_length_ratio: length_ratio_below).
 struct ConversionCriterion {
   View<int*> active;
   View<const int*> adaptive;
@@ -142,6 +161,19 @@ struct ConversionCriterion {
   ColumnView<double* [4]> stress;
   int qp = 1;
   bool on_tension = false;
+  // For the distortion criterion: connectivity, current positions, reference sum b.b.
+  View<int* [4]> element_nodes;
+  View<double* [2]> x;
+  View<double*> reference_norm2;
+  KOKKOS_INLINE_FUNCTION bool distorted(const int e, const double ratio) const {
+    if (!(ratio > 0.0) || reference_norm2.extent(0) == 0 || x.extent(0) == 0) return false;
+    double xc[4], yc[4];
+    for (int a = 0; a < 4; ++a) {
+      xc[a] = x(element_nodes(e, a), 0);
+      yc[a] = x(element_nodes(e, a), 1);
+    }
+    return length_ratio_below(xc, yc, reference_norm2(e), ratio);
+  }
   KOKKOS_INLINE_FUNCTION int operator()(const int i) const {
     const int e = active(i);
     if (!adaptive(e)) return 0;
@@ -158,7 +190,7 @@ struct ConversionCriterion {
     const bool strain = m.conversion_strain > 0.0 && ep >= m.conversion_strain;
     const bool tension =
         on_tension && m.tensile_strength > 0.0 && s1 >= m.tensile_strength * (1.0 - 1e-9);
-    return (strain || tension) ? 1 : 0;
+    return (strain || tension || distorted(e, m.conversion_length_ratio)) ? 1 : 0;
   }
 };
 
@@ -170,10 +202,12 @@ struct ConversionCriterion {
 // cells are in new_cells[0, n).
 // flag and position: work space of at least el.active_count entries (the overload below
 // allocates them).
+// positions: the nodes' current positions, for the distortion criterion (empty: not checked).
 inline int compact_converted(Elements& el, const View<const int*>& adaptive,
                              const View<const MaterialLaw*>& materials, bool on_tension,
                              const View<int*>& new_cells, View<int*>& active_scratch,
-                             const View<int*>& flag, const View<int*>& position) {
+                             const View<int*>& flag, const View<int*>& position,
+                             const View<double* [2]>& positions = {}) {
   const int n_active = el.active_count;
   if (n_active == 0) return 0;
   const auto active = el.active;
@@ -183,8 +217,17 @@ inline int compact_converted(Elements& el, const View<const int*>& adaptive,
   const int qp = el.qp_per_element;
   // The criterion is checked every conversion step, but elements rarely convert: count first
   // (one read-only pass, no allocation) and build the flag/scan/scatter only when some do.
-  const ConversionCriterion criterion{active, adaptive, materials, material,
-                                      epeq,   stress,   qp,        on_tension};
+  const ConversionCriterion criterion{active,
+                                      adaptive,
+                                      materials,
+                                      material,
+                                      epeq,
+                                      stress,
+                                      qp,
+                                      on_tension,
+                                      el.nodes,
+                                      positions,
+                                      el.reference_gradient_norm2};
   int flagged = 0;
   Kokkos::parallel_reduce(
       "fracta::conversion_count", Kokkos::RangePolicy<ExecSpace>(0, n_active),
@@ -223,11 +266,12 @@ inline int compact_converted(Elements& el, const View<const int*>& adaptive,
 
 inline int compact_converted(Elements& el, const View<const int*>& adaptive,
                              const View<const MaterialLaw*>& materials, bool on_tension,
-                             const View<int*>& new_cells, View<int*>& active_scratch) {
+                             const View<int*>& new_cells, View<int*>& active_scratch,
+                             const View<double* [2]>& positions = {}) {
   const View<int*> flag("fracta::conversion_flag", el.active_count);
   const View<int*> position("fracta::conversion_position", el.active_count);
   return compact_converted(el, adaptive, materials, on_tension, new_cells, active_scratch, flag,
-                           position);
+                           position, positions);
 }
 
 // The distinct values candidates(c) with keep(c) = 1 (keep marks one occurrence of each), in
@@ -262,11 +306,20 @@ inline int compact_candidates(Elements& el, const View<const int*>& adaptive,
                               const View<const MaterialLaw*>& materials, bool on_tension,
                               const View<int*>& candidates, int k, const View<int*>& keep,
                               const View<int*>& sorted, const View<int*>& new_cells,
-                              View<int*>& active_scratch) {
+                              View<int*>& active_scratch, const View<double* [2]>& positions = {}) {
   const int n_active = el.active_count;
   if (n_active == 0 || k == 0) return 0;
-  const ConversionCriterion criterion{el.active, adaptive,  materials,         el.material,
-                                      el.epeq,   el.stress, el.qp_per_element, on_tension};
+  const ConversionCriterion criterion{el.active,
+                                      adaptive,
+                                      materials,
+                                      el.material,
+                                      el.epeq,
+                                      el.stress,
+                                      el.qp_per_element,
+                                      on_tension,
+                                      el.nodes,
+                                      positions,
+                                      el.reference_gradient_norm2};
   Kokkos::parallel_for(
       "fracta::conversion_candidates", Kokkos::RangePolicy<ExecSpace>(0, k),
       KOKKOS_LAMBDA(const int c) {

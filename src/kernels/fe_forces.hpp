@@ -256,6 +256,14 @@ struct FeForces {
     if constexpr (QP == 4)
       sum.dt_element = full_integration_stable_dt(
           x, y, sqrt_(sum.area), sum.div_rate, mat.p_wave_speed, p.bulk_linear, p.bulk_quadratic);
+    // Distortion (ConversionCriterion): the element's characteristic length against its
+    // reference one, so that no adaptive element drives the step down by its shape.
+    if (conversion_pending.data() != nullptr && mat.conversion_length_ratio > 0.0 &&
+        elements.reference_gradient_norm2.extent(0) > 0) {
+      const T reference =
+          load_lanes<T>(elements.reference_gradient_norm2.data(), lanes.e, lanes.consecutive);
+      sum.convert = sum.convert || length_ratio_below(x, y, reference, mat.conversion_length_ratio);
+    }
     // Recoverable energy = stress work - plastic dissipation, both integrated per step (a state
     // function 1/2 s:C^-1:s V would drift against the nodal work as V changes).
     add_lanes(sum.strain_work - sum.plastic, elements.recoverable_work.data(), lanes.e,
@@ -603,6 +611,7 @@ inline Elements fe_element_views(const Elements& elements) {
   k.hourglass_disp = elements.hourglass_disp;
   k.hourglass_force = elements.hourglass_force;
   k.recoverable_work = elements.recoverable_work;
+  k.reference_gradient_norm2 = elements.reference_gradient_norm2;
   k.scatter = elements.scatter;
   return k;
 }

@@ -28,6 +28,9 @@ struct MaterialLaw {
   double friction_angle = 0;    // mohr_coulomb, rad
   double tensile_strength = 0;  // Rankine cut-off, Pa (0 = no cut-off)
   double conversion_strain = 0;
+  // An adaptive element converts when 1/sqrt(sum b.b) of its centre gradients (the length of
+  // its stable step) falls below this fraction of its reference value (0: never).
+  double conversion_length_ratio = 0;
   // Derived values cached by cache_derived() (the model does it for every law it hands to the
   // kernels), so the element kernel needs no square root, sine or cosine to get them.
   double p_wave_speed = 0;  // m/s, wave_speed() (0: unset)

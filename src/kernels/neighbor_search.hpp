@@ -359,14 +359,21 @@ inline void record_positions(const Nodes& nodes, const View<const int*>& discs,
       });
 }
 
-// Largest squared displacement of a disc since the build (m^2). A non-finite position gives
-// +inf, so it triggers a rebuild rather than hiding.
-inline double max_displacement_sq(const Nodes& nodes, const View<const int*>& discs,
-                                  const View<const double* [2]>& x_build) {
-  double m = 0.0;
-  const auto x = nodes.x;
+// How far the discs moved since the build and how fast they move: the largest squared
+// displacement (m^2; a non-finite position gives 1e300, so it triggers a rebuild rather than
+// hiding) and the largest squared speed (m^2/s^2, of nodes.v: the drift velocity of the step).
+struct DiscMotion {
+  double displacement_sq = 0.0, speed_sq = 0.0;
+};
+
+inline DiscMotion disc_motion(const Nodes& nodes, const View<const int*>& discs,
+                              const View<const double* [2]>& x_build) {
+  DiscMotion m;
+  const int count = static_cast<int>(discs.extent(0));
+  if (count == 0) return m;
+  const auto x = nodes.x, v = nodes.v;
   Kokkos::parallel_reduce(
-      "fracta::contact_displacement", Kokkos::RangePolicy<ExecSpace>(0, discs.extent(0)),
+      "fracta::contact_displacement", Kokkos::RangePolicy<ExecSpace>(0, count),
       KOKKOS_LAMBDA(const int a, double& acc) {
         const int n = discs(a);
         const double dx = x(n, 0) - x_build(a, 0), dy = x(n, 1) - x_build(a, 1);
@@ -374,7 +381,17 @@ inline double max_displacement_sq(const Nodes& nodes, const View<const int*>& di
         if (!isfinite_(d2)) d2 = 1e300;
         acc = max_(acc, d2);
       },
-      Kokkos::Max<double>(m));
+      Kokkos::Max<double>(m.displacement_sq));
+  if (v.extent(0) == 0) return m;
+  Kokkos::parallel_reduce(
+      "fracta::contact_speed", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(const int a, double& acc) {
+        const int n = discs(a);
+        double s2 = v(n, 0) * v(n, 0) + v(n, 1) * v(n, 1);
+        if (!isfinite_(s2)) s2 = 1e300;
+        acc = max_(acc, s2);
+      },
+      Kokkos::Max<double>(m.speed_sq));
   return m;
 }
 

@@ -2,6 +2,8 @@
 // (fe_forces.hpp), the Gershgorin bound of the bond network, and how the two combine. The bounds
 // are before the safety factor dt_safety.
 #pragma once
+#include <cmath>
+
 #include "kernels/compat.hpp"
 #include "kernels/conversion.hpp"
 #include "kernels/simd.hpp"
@@ -155,7 +157,17 @@ struct GershgorinBound {
   }
 };
 
-inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, int contact_allowance,
+// The contact allowance of the lattice bound: `contacts` contacts at the full penalty stiffness,
+// each with its dashpot of damping ratio zeta. Central differences keep a damped oscillator
+// stable for omega dt <= 2 (sqrt(1 + zeta^2) - zeta) (Belytschko, Liu & Moran 2000, Sec. 6.3),
+// so the damper counts as a stiffness 1 / (sqrt(1 + zeta^2) - zeta)^2 times larger: 1.22 at
+// zeta = 0.1.
+inline double damped_contact_allowance(double contacts, double damping_ratio) {
+  const double shrink = std::sqrt(1.0 + damping_ratio * damping_ratio) - damping_ratio;
+  return contacts / (shrink * shrink);
+}
+
+inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, double contact_allowance,
                              const View<const LatticeStiffness*>& stiffness = {}) {
   if (!nodes.has_particles()) return 1e300;
   View<double* [2]> row("fracta::gershgorin_rows", nodes.count);  // translation, rotation
@@ -164,7 +176,7 @@ inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, int contact
                          GershgorinRows{nodes, bonds, row, stiffness});
   double lambda = 0.0;
   Kokkos::parallel_reduce("fracta::bond_stable_dt", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
-                          GershgorinBound{nodes, row, static_cast<double>(contact_allowance)},
+                          GershgorinBound{nodes, row, contact_allowance},
                           Kokkos::Max<double>(lambda));
   return lambda > 0.0 ? 2.0 / sqrt_(lambda) : 1e300;
 }
@@ -184,7 +196,7 @@ inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, int contact
 // particle's bound (tests), and the stale flags are left alone.
 struct StableDtWorkspace {
   double disc_lambda = 0.0;  // max over contact discs of contact(n)
-  int allowance = -1;        // the allowance disc_lambda was computed for (-1: none yet)
+  double allowance = -1;     // the allowance disc_lambda was computed for (-1: none yet)
   bool cache = false;        // keep per-particle bounds (one workspace per model may)
   bool cached = false;       // `bound` holds every particle's current bound but the stale ones
   View<double*> bound;       // per node, 1/s^2
@@ -192,12 +204,12 @@ struct StableDtWorkspace {
 };
 
 inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, const Topology& topology,
-                             int contact_allowance, StableDtWorkspace& ws,
+                             double contact_allowance, StableDtWorkspace& ws,
                              const View<const LatticeStiffness*>& stiffness = {}) {
   if (!nodes.has_particles()) return 1e300;
   if (nodes.particle_list.extent(0) == 0 || topology.node_bond_offset.extent(0) == 0)
     return bond_stable_dt(nodes, bonds, contact_allowance, stiffness);
-  const GershgorinBound bound{nodes, {}, static_cast<double>(contact_allowance)};
+  const GershgorinBound bound{nodes, {}, contact_allowance};
   if (ws.allowance != contact_allowance) {
     const auto disc = nodes.contact_disc;
     ws.disc_lambda = 0.0;

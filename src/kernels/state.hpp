@@ -300,6 +300,9 @@ struct Elements {
   // conversion hands to the bonds. The dissipation (plastic, hourglass, bulk viscosity) is
   // summed per step over all elements (FeStepSums), not kept per element.
   View<double*> recoverable_work;
+  // sum b.b of each element's reference centre gradients (1/m^2), for the distortion criterion
+  // of adaptive conversion (ConversionCriterion); empty when no body is adaptive.
+  View<double*> reference_gradient_norm2;
   // Nodal forces without atomics on CPUs: the chunks of the active list, coloured so that no
   // two chunks of a colour share a node (kernels/scatter.hpp; update_scatter_plan after every
   // change of `active`). The fixed chunks make the FE forces independent of the thread count.

@@ -300,6 +300,56 @@ void prestressed_conversion(Formulation f) {
                                   std::to_string(hr.energy.conversion / hr.energy.internal));
 }
 
+// Distortion (conversion_length_ratio, default 0.3): an elastic adaptive block, whose elements
+// never reach a conversion strain, has the top row of nodes moved down in one step by 0.8 of a
+// cell on the left half and 0.7 on the right. An element converts exactly when its
+// characteristic length 1/sqrt(sum b.b) of the centre gradients is below 0.3 of its initial
+// one, computed here on the host from the positions (exact: the criterion's definition; a
+// squashed square of side h to height 0.2 h has 0.277, to 0.3 h 0.406).
+TEST(Conversion, DistortedElementsConvertWhateverTheirMaterial) {
+  const double h = 1e-3;
+  const int n = 8;
+  Case c = adaptive_case(n, n, h);
+  c.materials[0].conversion_length_ratio = kDefaultConversionLengthRatio;
+  c.sim.dt = 0.5 * Simulation(c).stable_dt_bound();
+  Simulation sim(c);
+  Nodes& nodes = sim.model().nodes;
+  auto x0 = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.x0);
+  {
+    auto v = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.v);
+    for (int i = 0; i < nodes.count; ++i)
+      if (x0(i, 1) > n * h - 1e-9) v(i, 1) = -(x0(i, 0) < 0.5 * n * h ? 0.8 : 0.7) * h / sim.dt();
+    Kokkos::deep_copy(nodes.v, v);
+  }
+  sim.step();
+  const auto x = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.x);
+  const auto alive = Kokkos::create_mirror_view_and_copy(HostSpace(), sim.model().elements.alive);
+  const auto corners = Kokkos::create_mirror_view_and_copy(HostSpace(), sim.model().elements.nodes);
+  auto length = [&](const auto& p, int e) {
+    double px[4], py[4];
+    for (int a = 0; a < 4; ++a) px[a] = p(corners(e, a), 0), py[a] = p(corners(e, a), 1);
+    const double A = 0.5 * ((px[2] - px[0]) * (py[3] - py[1]) + (px[1] - px[3]) * (py[2] - py[0]));
+    double b2 = 0;
+    for (int a = 0; a < 4; ++a) {
+      const double bx = (py[(a + 1) % 4] - py[(a + 3) % 4]) / (2 * A);
+      const double by = (px[(a + 3) % 4] - px[(a + 1) % 4]) / (2 * A);
+      b2 += bx * bx + by * by;
+    }
+    return 1.0 / std::sqrt(b2);
+  };
+  int converted = 0, kept = 0;
+  for (int e = 0; e < sim.model().elements.count; ++e) {
+    const double ratio = length(x, e) / length(x0, e);
+    ASSERT_GT(std::fabs(ratio - 0.3), 0.01) << "element " << e << " too close to the limit";
+    EXPECT_EQ(alive(e) == 0, ratio < 0.3) << "element " << e << ", length ratio " << ratio;
+    (ratio < 0.3 ? converted : kept) += 1;
+  }
+  // The left half of the top row, but for its last element, whose right corners moved 0.7 h.
+  EXPECT_EQ(converted, n / 2 - 1);
+  EXPECT_EQ(sim.conversions(), converted);
+  EXPECT_GT(kept, 0);
+}
+
 TEST(Conversion, PrestressedConversionReleasesNoWave) {
   prestressed_conversion(Formulation::plane_stress);
   prestressed_conversion(Formulation::plane_strain);

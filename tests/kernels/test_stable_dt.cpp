@@ -95,7 +95,9 @@ TEST(BondStableDt, CachedBoundsEqualAFullPass) {
     broken = broken_now;
     StableDtWorkspace full;  // no cache: every row, flags untouched
     full.bound = View<double*>("full_bound", m.nodes.count);
-    const double dt_full = bond_stable_dt(m.nodes, m.bonds, m.topology, 6, full);
+    const double dt_full =
+        bond_stable_dt(m.nodes, m.bonds, m.topology,
+                       damped_contact_allowance(6.0, m.scene.contact.damping_ratio), full);
     EXPECT_EQ(sim.bond_stable_dt_bound(), dt_full) << "step " << s;
     const auto kept =
         Kokkos::create_mirror_view_and_copy(HostSpace(), sim.bond_stable_dt_workspace().bound);

@@ -1,5 +1,5 @@
-// A plane wave crossing an FE/DE interface (docs/physics.md 1.3: composite nodes, bond slots from the
-// mesh, no interpolation and no penalty): the paper's cases A (interface along the wave) and B
+// A plane wave crossing an FE/DE interface (docs/physics.md 1.3: composite nodes, bond slots from
+// the mesh, no interpolation and no penalty): the paper's cases A (interface along the wave) and B
 // (interface across it), in a strip with rollers on its long sides so the exact solution is a
 // step of speed c and particle velocity p / (rho c).
 #include <gtest/gtest.h>

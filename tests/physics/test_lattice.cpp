@@ -171,8 +171,10 @@ TEST(LatticeFailure, UniaxialTensionFailsAtTensileStrength) {
     EXPECT_GT(r.broken, 0) << label;
     EXPECT_GT(r.first_fracture, 0.0) << label;
     if (nu < 0.25) EXPECT_GT(r.fracture, 0.0) << label;
-    // The balance with fracture energy closes within 1% through the breakage (measured 1e-9).
-    EXPECT_LT(r.worst_error, 0.01) << label;
+    // The balance with fracture energy closes within 1% through the breakage (measured 3e-8).
+    // With the cell term 1e-4 (measured 3e-8 and 1.2e-7): a cracked cell's volumetric energy
+    // left out of the fracture term gave 3.4e-3 and 5.7e-3.
+    EXPECT_LT(r.worst_error, nu < 0.25 ? 0.01 : 1e-4) << label;
     std::printf(
         "%s: first break at %.4g MPa, %ld bonds broken, fracture %.3g J (%.3g J at the "
         "first break), worst balance error %.2e\n",

@@ -1,4 +1,5 @@
-// Rigid bodies (docs/physics.md 1.3): no internal forces, exact rigidity, Newton-Euler through contact.
+// Rigid bodies (docs/physics.md 1.3): no internal forces, exact rigidity, Newton-Euler through
+// contact.
 #include <gtest/gtest.h>
 
 #include <cmath>
