@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "host/simulation.hpp"
 #include "kernels/stable_dt.hpp"
@@ -76,6 +78,73 @@ TEST(BondStableDt, GatherOverParticlesEqualsTheSweep) {
     else
       EXPECT_NEAR(gather, sweep, 1e-14 * sweep);
   }
+}
+
+// The lattice's Gershgorin bound (without contact allowance) against the largest eigenvalue of
+// M^-1/2 K M^-1/2, found by power iteration with the solver's own force evaluation (an oracle:
+// K w = -f(x0 + eps w) / eps from rest, for a displacement eps of 1e-6 of a cell), for a `de`
+// block at nu = 0.45 in plane strain, whose cells carry the volumetric term (cell_forces.hpp;
+// no shear springs there, so the rotations carry no stiffness). The bound must hold; the record
+// says how much the cell term's share in it (kCellTermDiagonalFactor) adds.
+TEST(BondStableDt, CellTermBoundHoldsTheLatticesLargestEigenvalue) {
+  const double h = 1e-3;
+  Case c = test::rectangle_case(6, 6, h, 232e9, 0.45, 7800.0, Formulation::plane_strain);
+  c.bodies[0].method = BodyMethod::de;
+  c.sim.end_time = 1.0;
+  c.sim.dt = 1e-9;
+  Simulation sim(c);
+  const Model& m = sim.model();
+  const int n = m.nodes.count;
+  const auto x0 = Kokkos::create_mirror_view_and_copy(HostSpace(), m.nodes.x0);
+  const auto mass = Kokkos::create_mirror_view_and_copy(HostSpace(), m.nodes.mass);
+  auto x = Kokkos::create_mirror(HostSpace(), m.nodes.x);
+  auto v = Kokkos::create_mirror(HostSpace(), m.nodes.v);
+  auto f = Kokkos::create_mirror(HostSpace(), m.nodes.f);
+  std::vector<double> w(2 * n), aw(2 * n);
+  std::srand(7);
+  for (double& value : w) value = std::rand() / static_cast<double>(RAND_MAX) - 0.5;
+  const double eps = 1e-6 * h;
+  double lambda = 0.0;
+  for (int iteration = 0; iteration < 400; ++iteration) {
+    double norm = 0.0;
+    for (double value : w) norm += value * value;
+    norm = std::sqrt(norm);
+    for (double& value : w) value /= norm;
+    // From rest at x0 with no force, one step of the drift moves node i by dt v_i.
+    for (int i = 0; i < n; ++i)
+      for (int d = 0; d < 2; ++d) {
+        x(i, d) = x0(i, d);
+        v(i, d) = eps * w[2 * i + d] / std::sqrt(mass(i)) / sim.dt();
+        f(i, d) = 0.0;
+      }
+    Kokkos::deep_copy(m.nodes.x, x);
+    Kokkos::deep_copy(m.nodes.v, v);
+    Kokkos::deep_copy(m.nodes.f, f);
+    sim.step();
+    Kokkos::deep_copy(f, m.nodes.f);
+    lambda = 0.0;
+    for (int i = 0; i < n; ++i)
+      for (int d = 0; d < 2; ++d) {
+        aw[2 * i + d] = -f(i, d) / std::sqrt(mass(i)) / eps;
+        lambda += w[2 * i + d] * aw[2 * i + d];
+      }
+    w = aw;
+  }
+  ASSERT_FALSE(sim.failed()) << sim.failure();
+  const View<const LatticeStiffness*> stiffness = m.lattice_stiffness;
+  const double dt_with = bond_stable_dt(m.nodes, m.bonds, 0.0, stiffness);
+  const double dt_without = bond_stable_dt(m.nodes, m.bonds, 0.0);
+  const double bound_with = 4.0 / (dt_with * dt_with),
+               bound_without = 4.0 / (dt_without * dt_without);
+  EXPECT_GT(lambda, 0.0);
+  EXPECT_LE(lambda, bound_with);
+  RecordProperty("largest_eigenvalue_over_bound", std::to_string(lambda / bound_with));
+  RecordProperty("largest_eigenvalue_over_bound_without_cell_term",
+                 std::to_string(lambda / bound_without));
+  std::printf(
+      "largest eigenvalue %.4g 1/s^2: %.3f of the bound, %.3f of the bound without the "
+      "cell term\n",
+      lambda, lambda / bound_with, lambda / bound_without);
 }
 
 // The solver keeps each particle's bound and recomputes only the rows flagged stale (a bond
