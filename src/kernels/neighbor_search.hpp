@@ -364,7 +364,29 @@ inline void record_positions(const Nodes& nodes, const View<const int*>& discs,
 // hiding) and the largest squared speed (m^2/s^2, of nodes.v: the drift velocity of the step).
 struct DiscMotion {
   double displacement_sq = 0.0, speed_sq = 0.0;
+  // Joined elementwise by the maximum: one pass reduces both (disc_motion runs it through
+  // Kokkos::Sum, whose join is +=; the identity is 0, below every value reduced).
+  KOKKOS_INLINE_FUNCTION DiscMotion& operator+=(const DiscMotion& o) {
+    displacement_sq = max_(displacement_sq, o.displacement_sq);
+    speed_sq = max_(speed_sq, o.speed_sq);
+    return *this;
+  }
+  KOKKOS_INLINE_FUNCTION void operator+=(const volatile DiscMotion& o) volatile {
+    displacement_sq = max_(displacement_sq, o.displacement_sq);
+    speed_sq = max_(speed_sq, o.speed_sq);
+  }
 };
+
+}  // namespace fracta
+
+namespace Kokkos {
+template <>
+struct reduction_identity<fracta::DiscMotion> {
+  KOKKOS_FORCEINLINE_FUNCTION static fracta::DiscMotion sum() { return fracta::DiscMotion(); }
+};
+}  // namespace Kokkos
+
+namespace fracta {
 
 inline DiscMotion disc_motion(const Nodes& nodes, const View<const int*>& discs,
                               const View<const double* [2]>& x_build) {
@@ -372,26 +394,22 @@ inline DiscMotion disc_motion(const Nodes& nodes, const View<const int*>& discs,
   const int count = static_cast<int>(discs.extent(0));
   if (count == 0) return m;
   const auto x = nodes.x, v = nodes.v;
+  const bool speeds = v.extent(0) > 0;
   Kokkos::parallel_reduce(
       "fracta::contact_displacement", Kokkos::RangePolicy<ExecSpace>(0, count),
-      KOKKOS_LAMBDA(const int a, double& acc) {
+      KOKKOS_LAMBDA(const int a, DiscMotion& acc) {
         const int n = discs(a);
         const double dx = x(n, 0) - x_build(a, 0), dy = x(n, 1) - x_build(a, 1);
-        double d2 = dx * dx + dy * dy;
-        if (!isfinite_(d2)) d2 = 1e300;
-        acc = max_(acc, d2);
+        DiscMotion here;
+        here.displacement_sq = dx * dx + dy * dy;
+        if (!isfinite_(here.displacement_sq)) here.displacement_sq = 1e300;
+        if (speeds) {
+          here.speed_sq = v(n, 0) * v(n, 0) + v(n, 1) * v(n, 1);
+          if (!isfinite_(here.speed_sq)) here.speed_sq = 1e300;
+        }
+        acc += here;
       },
-      Kokkos::Max<double>(m.displacement_sq));
-  if (v.extent(0) == 0) return m;
-  Kokkos::parallel_reduce(
-      "fracta::contact_speed", Kokkos::RangePolicy<ExecSpace>(0, count),
-      KOKKOS_LAMBDA(const int a, double& acc) {
-        const int n = discs(a);
-        double s2 = v(n, 0) * v(n, 0) + v(n, 1) * v(n, 1);
-        if (!isfinite_(s2)) s2 = 1e300;
-        acc = max_(acc, s2);
-      },
-      Kokkos::Max<double>(m.speed_sq));
+      Kokkos::Sum<DiscMotion>(m));
   return m;
 }
 
