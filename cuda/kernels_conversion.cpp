@@ -17,15 +17,18 @@ double conversion_kernels(Elements& elements, const Nodes& nodes, const Bonds& b
         const LatticeStiffness s = lattice_stiffness(2e11, 0.3, e % 2 == 0, 0.01);
         double green[3];
         cell_green_lagrange(el, nodes, e, green);
-        out(e) = s.k1 + s.k2 + s.ks + green[0];
+        const double x[4] = {0.0, 1e-3, 1e-3, 0.0}, y[4] = {0.0, 0.0, 2e-4, 1e-3};
+        out(e) =
+            s.k1 + s.k2 + s.ks + s.kv + green[0] + (length_ratio_below(x, y, 2e6, 0.3) ? 1.0 : 0.0);
       });
   View<LatticeStiffness*> stiffness("fracta::cuda_check_stiffness", 1);
   const View<const LatticeStiffness*> stiffness_c = stiffness;
-  const int n = compact_converted(elements, adaptive, materials, true, new_cells, active_scratch);
+  const int n =
+      compact_converted(elements, adaptive, materials, true, new_cells, active_scratch, nodes.x);
   // The conversion from candidates, and the lists it keeps.
   ListWorkspace ws(bonds.count > nodes.count ? bonds.count : nodes.count);
   const int m = compact_candidates(elements, adaptive, materials, true, ws.bond_candidates, 8,
-                                   ws.keep, ws.sorted, new_cells, active_scratch);
+                                   ws.keep, ws.sorted, new_cells, active_scratch, nodes.x);
   collect_new_bonds(new_cells, n, element_bonds, bonds, ws.bond_candidates);
   collect_new_particles(new_cells, n, elements, nodes, ws.particle_candidates);
   const double energy = prestress_converted_bonds(new_cells, n, element_bonds, stiffness_c,

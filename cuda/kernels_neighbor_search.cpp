@@ -24,7 +24,8 @@ long neighbor_search_kernels(const Nodes& nodes, const View<const int*>& discs,
   }
   index_candidates(discs, pair_i, pair_j, last, row_offset, pair_b);
   record_positions(nodes, discs, x_build);
-  const double d2 = max_displacement_sq(nodes, discs, x_build);
+  const DiscMotion motion = disc_motion(nodes, discs, x_build);
+  const double d2 = motion.displacement_sq + motion.speed_sq;
   return total + (d2 > 1.0 ? 1 : 0);
 }
 

@@ -6,7 +6,7 @@ namespace fracta::cuda_check {
 
 double stable_dt_kernels(const Nodes& nodes, const Elements& elements, const Bonds& bonds,
                          const Topology& topology, const View<int*>& cells,
-                         const View<double*>& out) {
+                         const View<double*>& out, const View<const LatticeStiffness*>& stiffness) {
   Kokkos::parallel_for(
       "fracta::cuda_check_element_stable_dt", Kokkos::RangePolicy<ExecSpace>(0, out.extent(0)),
       KOKKOS_LAMBDA(const int i) {
@@ -19,7 +19,8 @@ double stable_dt_kernels(const Nodes& nodes, const Elements& elements, const Bon
       });
   mark_converted_rows(cells, static_cast<int>(cells.extent(0)), elements, nodes, bonds, topology);
   StableDtWorkspace ws;
-  return bond_stable_dt(nodes, bonds, 2) + bond_stable_dt(nodes, bonds, topology, 2, ws);
+  return bond_stable_dt(nodes, bonds, 2) + bond_stable_dt(nodes, bonds, topology, 2, ws) +
+         bond_stable_dt(nodes, bonds, damped_contact_allowance(6.0, 0.1), stiffness);
 }
 
 }  // namespace fracta::cuda_check
