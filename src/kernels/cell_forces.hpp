@@ -34,9 +34,10 @@ struct CellBulkForces {
   View<const LatticeStiffness*> stiffness;
   bool atomic = true;
 
-  // tr(eps) of cell e and, when forces is set, adds its forces f_a = -p F (A0 b_a), p = kv tr.
-  KOKKOS_INLINE_FUNCTION double volumetric_strain(const int e, const double kv,
-                                                  const bool forces) const {
+  // tr(eps) of cell e and its reference area A0 (m^2); when forces is set, adds its forces
+  // f_a = -p F (A0 b_a), p = kv tr.
+  KOKKOS_INLINE_FUNCTION double volumetric_strain(const int e, const double kv, const bool forces,
+                                                  double& A0) const {
     double x0[4], y0[4], ux[4], uy[4];
     int node[4];
     for (int a = 0; a < 4; ++a) {
@@ -48,7 +49,7 @@ struct CellBulkForces {
     }
     // A0 b_a: the reference gradients times the reference area (no division).
     double gx[4], gy[4];
-    const double A0 = 0.5 * ((x0[2] - x0[0]) * (y0[3] - y0[1]) + (x0[1] - x0[3]) * (y0[2] - y0[0]));
+    A0 = 0.5 * ((x0[2] - x0[0]) * (y0[3] - y0[1]) + (x0[1] - x0[3]) * (y0[2] - y0[0]));
     for (int a = 0; a < 4; ++a) {
       gx[a] = 0.5 * (y0[(a + 1) % 4] - y0[(a + 3) % 4]);
       gy[a] = 0.5 * (x0[(a + 3) % 4] - x0[(a + 1) % 4]);
@@ -85,18 +86,13 @@ struct CellBulkForces {
     const double kv = stiffness(elements.material(e)).kv;
     if (!(kv > 0.0)) return;
     const double old = elements.cell_volumetric_strain(e);
+    double A0;
     if (!elements.cell_cracked(e)) {
-      elements.cell_volumetric_strain(e) = volumetric_strain(e, kv, true);
+      elements.cell_volumetric_strain(e) = volumetric_strain(e, kv, true, A0);
       return;
     }
     if (old == 0.0) return;  // released already (or never strained)
-    const double now = volumetric_strain(e, kv, false);
-    double x0[4], y0[4];
-    for (int a = 0; a < 4; ++a) {
-      x0[a] = nodes.x0(elements.nodes(e, a), 0);
-      y0[a] = nodes.x0(elements.nodes(e, a), 1);
-    }
-    const double A0 = 0.5 * ((x0[2] - x0[0]) * (y0[3] - y0[1]) + (x0[1] - x0[3]) * (y0[2] - y0[0]));
+    const double now = volumetric_strain(e, kv, false, A0);
     released += 0.5 * kv * A0 * old * now;
     elements.cell_volumetric_strain(e) = 0.0;
   }
@@ -111,17 +107,8 @@ struct CellBulkForces {
 
 // The plan of Elements::cell_scatter: every mesh element, in no list (built once).
 inline void build_cell_scatter_plan(Elements& elements) {
-  const auto element_nodes = elements.nodes;
-  build_scatter_plan(
-      elements.cell_scatter, elements.count,
-      KOKKOS_LAMBDA(const int e, int& lo, int& hi) {
-        lo = hi = element_nodes(e, 0);
-        for (int a = 1; a < 4; ++a) {
-          lo = min_(lo, element_nodes(e, a));
-          hi = max_(hi, element_nodes(e, a));
-        }
-      },
-      View<int*>(), elements.count);
+  build_scatter_plan(elements.cell_scatter, elements.count, ElementNodeRange{elements.nodes},
+                     View<int*>(), elements.count);
 }
 
 // Adds the cell term's forces to nodes.f and returns the energy of the cells that cracked since

@@ -193,23 +193,26 @@ typename Reducer::value_type for_each_chunk(const char* name, const ScatterPlan&
 // and located in its list (Elements::active, the bond list) after every change of the list.
 // ---------------------------------------------------------------------------------------------
 
+// The nodes mesh element e touches lie in [lo, hi]: its corners' smallest and largest index.
+struct ElementNodeRange {
+  View<int* [4]> element_nodes;
+  KOKKOS_INLINE_FUNCTION void operator()(const int e, int& lo, int& hi) const {
+    lo = hi = element_nodes(e, 0);
+    for (int a = 1; a < 4; ++a) {
+      lo = min_(lo, element_nodes(e, a));
+      hi = max_(hi, element_nodes(e, a));
+    }
+  }
+};
+
 // The elements' plan: of every mesh element, located in the active list.
 inline void update_scatter_plan(Elements& elements) {
   if (elements.scatter.universe == elements.count) {
     locate_scatter_chunks(elements.scatter, elements.active, elements.active_count);
     return;
   }
-  const auto element_nodes = elements.nodes;
-  build_scatter_plan(
-      elements.scatter, elements.count,
-      KOKKOS_LAMBDA(const int e, int& lo, int& hi) {
-        lo = hi = element_nodes(e, 0);
-        for (int a = 1; a < 4; ++a) {
-          lo = min_(lo, element_nodes(e, a));
-          hi = max_(hi, element_nodes(e, a));
-        }
-      },
-      elements.active, elements.active_count);
+  build_scatter_plan(elements.scatter, elements.count, ElementNodeRange{elements.nodes},
+                     elements.active, elements.active_count);
 }
 
 // The scatter plan of the bond slots (kernels/scatter.hpp), cut once from the slots and located
