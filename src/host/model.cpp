@@ -829,13 +829,10 @@ Model build_model(const Case& c) {
         x[a] = m.position[m.element_nodes[e][a]][0];
         y[a] = m.position[m.element_nodes[e][a]][1];
       }
-      const double twice_area = (x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]);
-      double sum = 0.0;
-      for (int a = 0; a < 4; ++a) {
-        const double dy = y[(a + 1) % 4] - y[(a + 3) % 4], dx = x[(a + 3) % 4] - x[(a + 1) % 4];
-        sum += dx * dx + dy * dy;
-      }
-      norm2[e] = sum / (twice_area * twice_area);
+      double bx[4], by[4];
+      centre_gradients(x, y, bx, by);
+      norm2[e] = 0.0;
+      for (int a = 0; a < 4; ++a) norm2[e] += bx[a] * bx[a] + by[a] * by[a];
     }
     el.reference_gradient_norm2 = to_device_1d<double>("reference_gradient_norm2", norm2);
   }

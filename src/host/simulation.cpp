@@ -152,14 +152,14 @@ std::string restart_command(const Case& c, const std::string& checkpoint_path) {
 }
 
 namespace {
-// The per-material stiffness the lattice's stable step reads for the volumetric cell term
-// (stable_dt.hpp); empty when no cell has the term, so other scenes read nothing more.
 // Contacts the lattice's stable bound allows each disc: 6 at the full penalty stiffness, their
 // dampers counted (damped_contact_allowance).
 double contact_allowance(const Model& m) {
   return damped_contact_allowance(6.0, m.scene.contact.damping_ratio);
 }
 
+// The per-material stiffness the lattice's stable step reads for the volumetric cell term
+// (stable_dt.hpp); empty when no cell has the term, so other scenes read nothing more.
 View<const LatticeStiffness*> cell_term_stiffness(const Model& m) {
   return m.elements.cell_volumetric_strain.extent(0) > 0
              ? View<const LatticeStiffness*>(m.lattice_stiffness)
@@ -300,8 +300,21 @@ BondStepResult Simulation::bond_forces(double dt) {
                       m.nodes);
   BondStepResult r = compute_bond_forces(m.nodes, m.elements, m.bonds, m.bond_laws, dt);
   // After the bonds: a cell one of them cracked this step gives up its volumetric term now.
-  r.fracture_energy += compute_cell_bulk_forces(m.nodes, m.elements, m.lattice_stiffness);
+  if (cell_term_live())
+    r.fracture_energy += compute_cell_bulk_forces(m.nodes, m.elements, m.lattice_stiffness);
   return r;
+}
+
+bool Simulation::cell_term_live() {
+  const Model& m = model_;
+  // The converted list only grows, and a restored state restores a prefix of it: its length
+  // says whether the count is current.
+  if (m.converted_count != cell_term_counted_at_) {
+    cell_term_counted_at_ = m.converted_count;
+    cell_term_live_ =
+        cell_term_cells(m.converted, m.converted_count, m.elements, m.lattice_stiffness) > 0;
+  }
+  return cell_term_live_;
 }
 
 namespace {
@@ -421,7 +434,8 @@ bool Simulation::convert_cells() {
   // conversion changes no force, mass or moment it uses (new discs carry no moment yet), and the
   // one velocity it reads, the new discs' spin, is taken as v(n+1) (prestress_converted_bonds).
   const LatticeTotals before = lattice_totals(m.nodes, m.bonds, 0.0);
-  const double cells_before = cell_bulk_energy(m.nodes, m.elements, m.lattice_stiffness);
+  const double cells_before =
+      cell_bulk_energy(m.converted, m.converted_count, m.nodes, m.elements, m.lattice_stiffness);
   // The slots and nodes this conversion activates go into the lists (state.hpp): collected
   // before the activation, inserted after it; a large batch rebuilds the lists instead.
   const bool lists = m.bonds.used.extent(0) > 0 && m.nodes.particle_list.extent(0) > 0;
@@ -456,7 +470,8 @@ bool Simulation::convert_cells() {
   // and the spin given to new discs): reported, not hidden (docs/physics.md 1.3). Negative when
   // the conversion adds energy.
   const LatticeTotals after = lattice_totals(m.nodes, m.bonds, 0.0);
-  const double cells_after = cell_bulk_energy(m.nodes, m.elements, m.lattice_stiffness);
+  const double cells_after =
+      cell_bulk_energy(m.converted, m.converted_count, m.nodes, m.elements, m.lattice_stiffness);
   ledger_.energy.conversion += element_energy - (after.bond_elastic - before.bond_elastic) -
                                (cells_after - cells_before) -
                                (after.rotational_kinetic - before.rotational_kinetic);
@@ -505,7 +520,8 @@ HistoryRecord Simulation::history() {
   const LatticeTotals lt = lattice_totals(model_.nodes, model_.bonds, dt_nominal);
   r.energy.kinetic = nt.kinetic + lt.rotational_kinetic;
   r.energy.internal = et.internal + lt.bond_elastic +
-                      cell_bulk_energy(model_.nodes, model_.elements, model_.lattice_stiffness) +
+                      cell_bulk_energy(model_.converted, model_.converted_count, model_.nodes,
+                                       model_.elements, model_.lattice_stiffness) +
                       e.contact_elastic;
   r.energy.contact = e.contact_dissipated;
   r.energy.conversion = e.conversion;

@@ -80,6 +80,9 @@ class Simulation {
   FeStepSums element_forces(double dt);   // flags elements that meet their criterion
   BondStepResult bond_forces(double dt);  // cell stresses, bond laws, failure
   void contact_search();                  // candidate pairs (Verlet list)
+  // Whether a converted cell carries the lattice's volumetric term (cell_forces.hpp): the force
+  // kernel runs only then. Counted again whenever the converted list changed length.
+  bool cell_term_live();
   // The step's bound (s): the elements' and the lattice's stable bounds and the contact discs'
   // motion bound; negative when an element inverted.
   double step_bound(const FeStepSums& fe) const;
@@ -108,7 +111,9 @@ class Simulation {
   FrameData frame_;  // the last frame(), its arrays kept for the next
   FrameBuffers frame_buffers_;
   View<double*[3]> contact_force_, contact_force_prev_;
-  StableDtWorkspace stable_dt_;  // bond_stable_dt without allocations, per-particle cache
+  StableDtWorkspace stable_dt_;    // bond_stable_dt without allocations, per-particle cache
+  int cell_term_counted_at_ = -1;  // converted_count when cell_term_live_ was counted
+  bool cell_term_live_ = false;
   // Counts the adaptive elements the FE kernel flagged for conversion since the last one;
   // the candidates hold the first ones' active indices (compact_candidates).
   View<int> conversion_pending_{"fracta::conversion_pending"};

@@ -35,10 +35,10 @@ struct CellBulkForces {
   bool atomic = true;
 
   // tr(eps) of cell e and its reference area A0 (m^2); when forces is set, adds its forces
-  // f_a = -p F (A0 b_a), p = kv tr.
+  // f_a = -p A0 F b_a, p = kv tr.
   KOKKOS_INLINE_FUNCTION double volumetric_strain(const int e, const double kv, const bool forces,
                                                   double& A0) const {
-    double x0[4], y0[4], ux[4], uy[4];
+    double x0[4], y0[4], ux[4], uy[4], bx[4], by[4], h[4];
     int node[4];
     for (int a = 0; a < 4; ++a) {
       node[a] = elements.nodes(e, a);
@@ -47,34 +47,17 @@ struct CellBulkForces {
       ux[a] = nodes.x(node[a], 0) - x0[a];
       uy[a] = nodes.x(node[a], 1) - y0[a];
     }
-    // A0 b_a: the reference gradients times the reference area (no division).
-    double gx[4], gy[4];
-    A0 = 0.5 * ((x0[2] - x0[0]) * (y0[3] - y0[1]) + (x0[1] - x0[3]) * (y0[2] - y0[0]));
-    for (int a = 0; a < 4; ++a) {
-      gx[a] = 0.5 * (y0[(a + 1) % 4] - y0[(a + 3) % 4]);
-      gy[a] = 0.5 * (x0[(a + 3) % 4] - x0[(a + 1) % 4]);
-    }
-    double h00 = 0, h01 = 0, h10 = 0, h11 = 0;  // displacement gradient H = F - I, times A0
-    for (int a = 0; a < 4; ++a) {
-      h00 += ux[a] * gx[a];
-      h01 += ux[a] * gy[a];
-      h10 += uy[a] * gx[a];
-      h11 += uy[a] * gy[a];
-    }
-    h00 /= A0;
-    h01 /= A0;
-    h10 /= A0;
-    h11 /= A0;
-    // tr E = tr(H) + |H|^2 / 2, less the offset's trace.
-    const double trace = h00 + h11 + 0.5 * (h00 * h00 + h01 * h01 + h10 * h10 + h11 * h11) -
+    A0 = centre_gradients(x0, y0, bx, by);
+    displacement_gradient(ux, uy, bx, by, h);
+    // tr E = tr(H) + |H|^2 / 2 (green_lagrange's E_xx + E_yy), less the offset's trace.
+    const double trace = h[0] + h[3] +
+                         0.5 * (h[0] * h[0] + h[1] * h[1] + h[2] * h[2] + h[3] * h[3]) -
                          elements.cell_strain_offset(e, 0) - elements.cell_strain_offset(e, 1);
     if (forces) {
-      const double p = kv * trace;
+      const double p = kv * trace * A0;
       for (int a = 0; a < 4; ++a) {
-        const double fx = -p * ((1.0 + h00) * gx[a] + h01 * gy[a]);
-        const double fy = -p * (h10 * gx[a] + (1.0 + h11) * gy[a]);
-        scatter_add(&nodes.f(node[a], 0), fx, atomic);
-        scatter_add(&nodes.f(node[a], 1), fy, atomic);
+        scatter_add(&nodes.f(node[a], 0), -p * ((1.0 + h[0]) * bx[a] + h[1] * by[a]), atomic);
+        scatter_add(&nodes.f(node[a], 1), -p * (h[2] * bx[a] + (1.0 + h[3]) * by[a]), atomic);
       }
     }
     return trace;
@@ -129,19 +112,36 @@ inline double compute_cell_bulk_forces(const Nodes& nodes, const Elements& eleme
   return released;
 }
 
+// How many of the converted cells [0, count) have the term (a material with kv > 0): when none,
+// the force kernel has nothing to do (Simulation::cell_term_live).
+inline int cell_term_cells(const View<int*>& converted, int count, const Elements& elements,
+                           const View<const LatticeStiffness*>& stiffness) {
+  if (elements.cell_volumetric_strain.extent(0) == 0 || count == 0) return 0;
+  const auto material = elements.material;
+  int cells = 0;
+  Kokkos::parallel_reduce(
+      "fracta::cell_term_cells", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(const int k, int& sum) { sum += stiffness(material(converted(k))).kv > 0.0; },
+      cells);
+  return cells;
+}
+
 // The energy the intact cells' volumetric term holds (J), from the strains of their last
-// evaluation (compute_cell_bulk_forces; the conversion sets a new cell's): sum kv A0 tr^2 / 2.
-inline double cell_bulk_energy(const Nodes& nodes, const Elements& elements,
+// evaluation (compute_cell_bulk_forces; the conversion sets a new cell's), over the converted
+// cells [0, count): sum kv A0 tr^2 / 2.
+inline double cell_bulk_energy(const View<int*>& converted, int count, const Nodes& nodes,
+                               const Elements& elements,
                                const View<const LatticeStiffness*>& stiffness) {
-  if (elements.cell_volumetric_strain.extent(0) == 0 || elements.count == 0) return 0.0;
+  if (elements.cell_volumetric_strain.extent(0) == 0 || count == 0) return 0.0;
   const auto trace = elements.cell_volumetric_strain;
   const auto element_nodes = elements.nodes;
   const auto material = elements.material;
   const auto x0 = nodes.x0;
   double energy = 0.0;
   Kokkos::parallel_reduce(
-      "fracta::cell_bulk_energy", Kokkos::RangePolicy<ExecSpace>(0, elements.count),
-      KOKKOS_LAMBDA(const int e, double& sum) {
+      "fracta::cell_bulk_energy", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(const int k, double& sum) {
+        const int e = converted(k);
         const double tr = trace(e);
         if (tr == 0.0) return;
         double x[4], y[4];
@@ -149,8 +149,7 @@ inline double cell_bulk_energy(const Nodes& nodes, const Elements& elements,
           x[a] = x0(element_nodes(e, a), 0);
           y[a] = x0(element_nodes(e, a), 1);
         }
-        const double A0 = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
-        sum += 0.5 * stiffness(material(e)).kv * A0 * tr * tr;
+        sum += 0.5 * stiffness(material(e)).kv * quad_area(x, y) * tr * tr;
       },
       energy);
   return energy;

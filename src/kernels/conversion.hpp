@@ -52,23 +52,50 @@ KOKKOS_INLINE_FUNCTION LatticeStiffness lattice_stiffness(double E, double nu, b
   return s;
 }
 
+// Area of a quadrilateral with corners (x, y) counter-clockwise (m^2).
+template <class T>
+KOKKOS_INLINE_FUNCTION T quad_area(const T (&x)[4], const T (&y)[4]) {
+  return 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
+}
+
+// The one-point (centre) gradients b_a of a quadrilateral's bilinear shape functions, from its
+// corners (x, y) counter-clockwise; returns its area. T = double, or Double8 for eight cells.
+template <class T>
+KOKKOS_INLINE_FUNCTION T centre_gradients(const T (&x)[4], const T (&y)[4], T (&bx)[4],
+                                          T (&by)[4]) {
+  const T A = quad_area(x, y);
+  const T inverse_2A = 0.5 / A;  // one division per cell, not eight (every step, every cell)
+  for (int a = 0; a < 4; ++a) {
+    bx[a] = (y[(a + 1) % 4] - y[(a + 3) % 4]) * inverse_2A;
+    by[a] = (x[(a + 3) % 4] - x[(a + 1) % 4]) * inverse_2A;
+  }
+  return A;
+}
+
+// Displacement gradient H = sum_a u_a (x) b_a (xx, xy, yx, yy) of a cell from its corners'
+// displacements (ux, uy) and reference gradients (bx, by); F = I + H.
+template <class T>
+KOKKOS_INLINE_FUNCTION void displacement_gradient(const T (&ux)[4], const T (&uy)[4],
+                                                  const T (&bx)[4], const T (&by)[4], T (&h)[4]) {
+  h[0] = h[1] = h[2] = h[3] = splat<T>(0.0);
+  for (int a = 0; a < 4; ++a) {
+    h[0] += ux[a] * bx[a];
+    h[1] += ux[a] * by[a];
+    h[2] += uy[a] * bx[a];
+    h[3] += uy[a] * by[a];
+  }
+}
+
 // Green-Lagrange strain (xx, yy, xy tensor components) of a cell at its centre, from its 4
 // corners' reference positions (x0, y0) and displacements (ux, uy), with the reference one-point
 // gradients: rotation invariant. T = double, or Double8 for eight cells at once (simd.hpp).
 template <class T>
 KOKKOS_INLINE_FUNCTION void green_lagrange(const T (&x0)[4], const T (&y0)[4], const T (&ux)[4],
                                            const T (&uy)[4], T (&strain)[3]) {
-  const T A = 0.5 * ((x0[2] - x0[0]) * (y0[3] - y0[1]) + (x0[1] - x0[3]) * (y0[2] - y0[0]));
-  const T inverse_2A = 0.5 / A;  // one division per cell, not eight (every step, every cell)
-  T h00 = splat<T>(0.0), h01 = h00, h10 = h00, h11 = h00;  // displacement gradient
-  for (int a = 0; a < 4; ++a) {
-    const T bx = (y0[(a + 1) % 4] - y0[(a + 3) % 4]) * inverse_2A;
-    const T by = (x0[(a + 3) % 4] - x0[(a + 1) % 4]) * inverse_2A;
-    h00 += ux[a] * bx;
-    h01 += ux[a] * by;
-    h10 += uy[a] * bx;
-    h11 += uy[a] * by;
-  }
+  T bx[4], by[4], h[4];
+  centre_gradients(x0, y0, bx, by);
+  displacement_gradient(ux, uy, bx, by, h);
+  const T &h00 = h[0], &h01 = h[1], &h10 = h[2], &h11 = h[3];
   // E = (H + H^T + H^T H) / 2
   strain[0] = h00 + 0.5 * (h00 * h00 + h10 * h10);
   strain[1] = h11 + 0.5 * (h01 * h01 + h11 * h11);
@@ -140,7 +167,7 @@ namespace fracta {
 template <class T>
 KOKKOS_INLINE_FUNCTION auto length_ratio_below(const T (&x)[4], const T (&y)[4],
                                                const T& reference_norm2, double ratio) {
-  const T twice_area = (x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]);
+  const T twice_area = 2.0 * quad_area(x, y);
   T sum = splat<T>(0.0);
   for (int a = 0; a < 4; ++a) {
     const T dy = y[(a + 1) % 4] - y[(a + 3) % 4], dx = x[(a + 3) % 4] - x[(a + 1) % 4];
