@@ -1,8 +1,7 @@
 #include "host/contact.hpp"
 
-#include <cmath>
-
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
