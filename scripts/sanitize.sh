@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds the asan preset (AddressSanitizer + UndefinedBehaviorSanitizer, RelWithDebInfo, in
-# build-asan/) and runs the whole unit test suite under it: any sanitizer report fails the run.
+# build-asan/) and runs the unit test suite under it (all but three long benchmark scenes, below):
+# any sanitizer report fails the run.
 #
 #   scripts/sanitize.sh            asan preset (Kokkos from scripts/setup.sh)
 #   scripts/sanitize.sh --bounds   also the debug-bounds preset: Debug with Kokkos bounds checks
@@ -40,7 +41,10 @@ cmake --build --preset asan >build-asan/build.log 2>&1 ||
   { tail -80 build-asan/build.log >&2; say "build failed (full log: build-asan/build.log)"; exit 1; }
 say "asan build: $((SECONDS - start)) s"
 start=$SECONDS
-ctest --preset asan -j1
+# The published-benchmark runs that only repeat, for tens of microseconds of a large plate, the
+# kernels the shorter lattice and crack tests run here too (LatticeFailure.*, CrackGrowth.*) are
+# left to the Release suite: under the sanitizers they took minutes each.
+ctest --preset asan -j1 -E '^(BrazilianDisc|KalthoffWinkler|GlassBranching)\.'
 say "asan tests: $((SECONDS - start)) s"
 
 if [ $bounds = 1 ]; then
