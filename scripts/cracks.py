@@ -106,7 +106,8 @@ def main():
     first = f["frames/0"]
     x0 = first["node_position"][:] - first["node_displacement"][:]
     radius = first["particle_radius"][:]
-    cell = 2 * float(np.median(radius)) if len(radius) else None
+    # The largest disc: a perturbed lattice (node_perturbation) shrinks its interior discs only.
+    cell = 2 * float(np.max(radius)) if len(radius) else None
     link = a.link or (1.5 * cell if cell else None)
     if link is None:
         raise SystemExit("cracks.py: no discs in the first frame; give --link")

@@ -771,7 +771,8 @@ Region read_region(const Reader& r) {
 
 Body read_body(const Reader& r, Names& names, const Names& materials) {
   r.allow_only({"name", "material", "method", "cell_size", "shape", "cut", "region",
-                "initial_velocity", "initial_velocity_gradient", "initial_velocity_origin"});
+                "initial_velocity", "initial_velocity_gradient", "initial_velocity_origin",
+                "node_perturbation"});
   Body b;
   b.pos = r.pos();
   b.name = read_name(r);
@@ -796,6 +797,10 @@ Body read_body(const Reader& r, Names& names, const Names& materials) {
           to_vec2(r.source(), rows[i], key + "[" + std::to_string(i) + "]");
   }
   b.initial_velocity_origin = r.vec2("initial_velocity_origin", b.initial_velocity_origin);
+  // Up to a quarter cell: every cell stays convex with room to spare (a corner would have to
+  // cross its neighbours' diagonal, 0.71 cell away, to fold it).
+  b.node_perturbation =
+      r.number("node_perturbation", Range::ge(0).le(kMaxNodePerturbation), b.node_perturbation);
   const auto& L = b.initial_velocity_gradient;
   if (b.method == BodyMethod::rigid &&
       (L[0][0] != 0 || L[0][1] != 0 || L[1][0] != 0 || L[1][1] != 0))

@@ -61,6 +61,8 @@ struct NodeSelector {
 // of an adaptive body can take the step below about 0.3 of its initial value by distortion
 // (docs/physics.md 1.3).
 constexpr double kDefaultConversionLengthRatio = 0.3;
+// Largest [[body]] node_perturbation (fraction of the cell size).
+constexpr double kMaxNodePerturbation = 0.25;
 
 struct Material {
   std::string name;
@@ -115,6 +117,9 @@ struct Body {
   // v(x) = initial_velocity + L (x - initial_velocity_origin): L's rows (1/s), origin (m).
   std::array<Vec2, 2> initial_velocity_gradient{};
   Vec2 initial_velocity_origin{0, 0};
+  // Random displacement of the interior nodes at set-up, uniform in a disc of this radius
+  // (fraction of the cell size), drawn from [simulation] seed (mesh.cpp); 0: the regular grid.
+  double node_perturbation = 0;
   SourcePos pos;
 };
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "host/memory.hpp"
+#include "kernels/heterogeneity.hpp"
 
 namespace fracta {
 
@@ -104,6 +105,29 @@ std::array<double, 4> shape_bounds(const Shape& s) {
   return {0, 0, 0, 0};
 }
 
+// Moves every interior node (all four cells around it kept) by a random displacement uniform in
+// the disc of radius `radius` (m): r = radius sqrt(U1), angle 2 pi U2, with U1, U2 the counter-
+// based draws of kernels/heterogeneity.hpp for the node's id (keys with the top bit set, which
+// no bond key has), so the perturbation repeats bit for bit from the seed. Boundary nodes stay,
+// so the shape, the cuts and the node sets of loads and boundaries are those of the regular
+// grid.
+template <class Interior>
+void perturb_interior_nodes(HostMesh& m, double radius, std::uint64_t seed,
+                            const Interior& interior, int nx, int ny,
+                            const std::vector<int>& node_id) {
+  constexpr std::uint64_t kNodeStream = 1ull << 63;
+  for (int j = 1; j < ny; ++j)
+    for (int i = 1; i < nx; ++i) {
+      const int n = node_id[static_cast<size_t>(j) * (nx + 1) + i];
+      if (n < 0 || !interior(i, j)) continue;
+      const std::uint64_t key = kNodeStream | (2 * static_cast<std::uint64_t>(n));
+      const double r = radius * std::sqrt(uniform_draw(seed, key));
+      const double angle = 2 * M_PI * uniform_draw(seed, key + 1);
+      m.position[n][0] += r * std::cos(angle);
+      m.position[n][1] += r * std::sin(angle);
+    }
+}
+
 HostMesh build_mesh(const Case& c) {
   check_memory(c);  // refuses absurd cell counts before anything is allocated
   HostMesh m;
@@ -193,6 +217,13 @@ HostMesh build_mesh(const Case& c) {
           m.boundary_edge_body.push_back(static_cast<int>(b));
         }
       }
+    if (body.node_perturbation > 0)
+      perturb_interior_nodes(
+          m, body.node_perturbation * std::min(hx, hy), c.sim.seed,
+          [&](int i, int j) {
+            return kept(i - 1, j - 1) && kept(i, j - 1) && kept(i - 1, j) && kept(i, j);
+          },
+          nx, ny, node_id);
     m.bodies.push_back(r);
   }
   return m;

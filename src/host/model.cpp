@@ -576,11 +576,27 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
 
   {
     std::vector<double> radius(nn), inertia(nn), kc(nn);
-    auto mass = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.mass);
     for (int n = 0; n < nn; ++n) {
       const BodyRange& r = m.bodies[m.node_body[n]];
-      const Body& body = c.bodies[m.node_body[n]];
       radius[n] = 0.5 * std::min(r.cell_x, r.cell_y);
+    }
+    // A perturbed grid (node_perturbation): no disc may overlap another of its cells at rest, or
+    // a broken bond would release the overlap as a contact force; each disc takes at most half
+    // its distance to every other corner of its cells.
+    for (int e = 0; e < m.element_count(); ++e) {
+      if (c.bodies[m.element_body[e]].node_perturbation == 0) continue;
+      const auto& corner = m.element_nodes[e];
+      for (int a = 0; a < 4; ++a)
+        for (int b = a + 1; b < 4; ++b) {
+          const Vec2 &p = m.position[corner[a]], &q = m.position[corner[b]];
+          const double half = 0.5 * std::hypot(q[0] - p[0], q[1] - p[1]);
+          radius[corner[a]] = std::min(radius[corner[a]], half);
+          radius[corner[b]] = std::min(radius[corner[b]], half);
+        }
+    }
+    auto mass = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.mass);
+    for (int n = 0; n < nn; ++n) {
+      const Body& body = c.bodies[m.node_body[n]];
       inertia[n] = 0.5 * mass(n) * radius[n] * radius[n];
       kc[n] = c.contact.stiffness_factor * stiffness[body.material_index].k1;
     }

@@ -294,6 +294,7 @@ const BadCase kBadCases[] = {
     {"spread_and_weibull.toml", 13, "material['glass'].strength_spread", "not both"},
     {"velocity_gradient_rigid.toml", 18, "body['ball'].initial_velocity_gradient", "rigid body"},
     {"velocity_gradient_one_row.toml", 17, "body['plate'].initial_velocity_gradient", "2 rows"},
+    {"node_perturbation_large.toml", 17, "body['pane'].node_perturbation", "must be <= 0.25"},
 };
 
 INSTANTIATE_TEST_SUITE_P(CaseFiles, CaseBadFile, ::testing::ValuesIn(kBadCases),
