@@ -35,8 +35,17 @@ time) into the results directory.
     mean, the ratio to the Zhou-Molinari-Ramesh fit 4.5 L0 / (1 + 4.5 e^(2/3)) = 62.8 um and the
     wall time per seed: what an ensemble and a finer lattice buy and cost.
 
+(d) crackpath: cases/validation/kalthoff_winkler_turned.toml (the Kalthoff-Winkler plate turned
+    30 degrees against a perturbed lattice, node_perturbation 0.15), cell size (1, 0.5 mm) x
+    seed. Each crack's angle to the notch line (the line through its notch tip fitted to its path
+    5 to 25 mm from the tip, as the test measures). Reported per cell size and number of seeds n:
+    the mean angle of the 2n cracks, their spread (standard deviation), the standard error of the
+    mean, the distance of the mean from the published 70 degrees and the wall time; with the
+    regular lattice's two angles for comparison.
+
 Usage: /usr/bin/python3 bench/tradeoff.py [--fracta build/fracta] [--out bench/results]
-                                 [--study plate|penetration|speed|fragmentation|all] [--quick]
+                                 [--study plate|penetration|speed|fragmentation|crackpath|all]
+                                 [--quick]
 """
 import argparse
 import csv
@@ -367,11 +376,90 @@ def study_fragmentation(fracta, out, tmp, quick):
     return rows
 
 
+CRACK_CASE = "validation/kalthoff_winkler_turned.toml"
+CRACK_CELLS_MM = [1.0, 0.5]
+CRACK_SEEDS = {1.0: [1, 2, 3, 4, 5, 6, 7, 8], 0.5: [1, 2, 3, 4]}
+CRACK_ALPHA = math.radians(30.0)
+CRACK_ORIGIN = (60e-3, 120e-3)  # the plate's struck-edge midpoint (m)
+
+
+def crack_angles(path):
+    """The two cracks' angles to the notch line (degrees), from the last frame."""
+    sys.path.insert(0, os.path.join(ROOT, "scripts"))
+    from cracks import trace  # noqa: E402
+    ca, sa = math.cos(CRACK_ALPHA), math.sin(CRACK_ALPHA)
+    with h5py.File(path, "r") as f:
+        frames = f["frames"]
+        first, last = frames["0"], frames[max(frames.keys(), key=int)]
+        x0 = first["node_position"][:] - first["node_displacement"][:]
+        bn, st = last["bond_nodes"][:], last["bond_state"][:]
+    broken = bn[st == 2]
+    points = 0.5 * (x0[broken[:, 0]] + x0[broken[:, 1]])
+    angles = []
+    for side in (1, -1):
+        tip = np.array([CRACK_ORIGIN[0] + 1e-3 * (50 * ca - side * 25 * sa),
+                        CRACK_ORIGIN[1] + 1e-3 * (50 * sa + side * 25 * ca)])
+        r = trace(points, tip, 2e-3, 10e-3)
+        sss = ssn = snn = 0.0
+        for p in r["path"]:
+            w = np.asarray(p) - tip
+            if not 5e-3 <= math.hypot(w[0], w[1]) <= 25e-3:
+                continue
+            ds, dn = w[0] * ca + w[1] * sa, side * (-w[0] * sa + w[1] * ca)
+            sss, ssn, snn = sss + ds * ds, ssn + ds * dn, snn + dn * dn
+        angles.append(0.5 * math.degrees(math.atan2(2 * ssn, sss - snn)) if sss + snn > 0
+                      else float("nan"))
+    return angles
+
+
+def study_crackpath(fracta, out, tmp, quick):
+    cells = CRACK_CELLS_MM[:1] if quick else CRACK_CELLS_MM
+    runs = []
+    for h in cells:
+        for perturbation, seeds in ((0.0, [1]), (0.15, CRACK_SEEDS[h][:2] if quick else CRACK_SEEDS[h])):
+            for seed in seeds:
+                path = os.path.join(tmp, "kw.h5")
+                rc, msg = run_fracta(fracta, CRACK_CASE, [
+                    f"body.plate.cell_size={h * 1e-3:.9g}", f"simulation.seed={seed}",
+                    f"body.plate.node_perturbation={perturbation}",
+                    "simulation.output_interval=1.0", 'output.fields=["velocity"]'], path)
+                run = dict(cell_mm=h, perturbation=perturbation, seed=seed, status=rc, message=msg,
+                           upper_deg=float("nan"), lower_deg=float("nan"), wall_s=float("nan"))
+                if rc == 0:
+                    run["upper_deg"], run["lower_deg"] = crack_angles(path)
+                    with h5py.File(path, "r") as f:
+                        run["wall_s"] = float(attr(f, "wall_seconds"))
+                runs.append(run)
+                print(f"crackpath h {h:g} mm delta {perturbation:g} seed {seed}: " +
+                      (f"{run['upper_deg']:.1f} / {run['lower_deg']:.1f} deg, {run['wall_s']:.1f} s"
+                       if rc == 0 else f"exit {rc}: {msg}"), flush=True)
+    write_csv(runs, ["cell_mm", "perturbation", "seed", "status", "upper_deg", "lower_deg",
+                     "wall_s", "message"], os.path.join(out, "tradeoff_crackpath_runs.csv"))
+    rows = []
+    for h in cells:
+        regular = [r for r in runs if r["cell_mm"] == h and r["perturbation"] == 0 and r["status"] == 0]
+        ok = [r for r in runs if r["cell_mm"] == h and r["perturbation"] > 0 and r["status"] == 0]
+        for n in range(1, len(ok) + 1):
+            sample = np.array([a for r in ok[:n] for a in (r["upper_deg"], r["lower_deg"])])
+            sd = float(np.std(sample, ddof=1))
+            rows.append(dict(cell_mm=h, seeds=n, mean_deg=float(sample.mean()), sd_deg=sd,
+                             standard_error_deg=sd / math.sqrt(len(sample)),
+                             off_published_deg=float(sample.mean()) - 70.0,
+                             wall_s=float(sum(r["wall_s"] for r in ok[:n])),
+                             regular_deg=(f"{regular[0]['upper_deg']:.1f} / {regular[0]['lower_deg']:.1f}"
+                                          if regular else "-")))
+    write_csv(rows, ["cell_mm", "seeds", "mean_deg", "sd_deg", "standard_error_deg",
+                     "off_published_deg", "wall_s", "regular_deg"],
+              os.path.join(out, "tradeoff_crackpath.csv"))
+    return rows
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--fracta", default=os.path.join(ROOT, "build", "fracta"))
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
-    ap.add_argument("--study", choices=["plate", "penetration", "speed", "fragmentation", "all"],
+    ap.add_argument("--study", choices=["plate", "penetration", "speed", "fragmentation",
+                                        "crackpath", "all"],
                     default="all")
     ap.add_argument("--quick", action="store_true", help="two cell sizes only (pipeline check)")
     args = ap.parse_args()
@@ -386,6 +474,8 @@ def main():
             study_speed(args.fracta, args.out, tmp, args.quick)
         if args.study in ("fragmentation", "all"):
             study_fragmentation(args.fracta, args.out, tmp, args.quick)
+        if args.study in ("crackpath", "all"):
+            study_crackpath(args.fracta, args.out, tmp, args.quick)
     with open(os.path.join(args.out, "tradeoff_machine.txt"), "w") as f:
         for k, v in machine_info().items():
             f.write(f"{k}: {v}\n")

@@ -169,6 +169,20 @@ def fragmentation_tradeoff_block(results):
                   for r in rows])
 
 
+def crackpath_tradeoff_block(results):
+    path = os.path.join(results, "tradeoff_crackpath.csv")
+    if not os.path.exists(path):
+        return "(not run)"
+    rows = read_csv(path)
+    return table(["cell (mm)", "seeds", "mean angle (°)", "crack spread (°)",
+                  "standard error (°)", "mean − 70°", "wall, all seeds (s)",
+                  "regular lattice (°)"],
+                 [[r["cell_mm"], r["seeds"], fmt(float(r["mean_deg"]), ".1f"),
+                   fmt(float(r["sd_deg"]), ".1f"), fmt(float(r["standard_error_deg"]), ".1f"),
+                   fmt(float(r["off_published_deg"]), "+.1f"), fmt(float(r["wall_s"]), ".1f"),
+                   r["regular_deg"]] for r in rows])
+
+
 def output_cost_block(results):
     path = os.path.join(results, "output_cost.csv")
     if not os.path.exists(path):
@@ -198,6 +212,7 @@ def main():
         "tradeoff_penetration": penetration_tradeoff_block(args.results),
         "tradeoff_speed": speed_tradeoff_block(args.results),
         "tradeoff_fragmentation": fragmentation_tradeoff_block(args.results),
+        "tradeoff_crackpath": crackpath_tradeoff_block(args.results),
         "output_cost": output_cost_block(args.results),
     }
     text = open(args.doc).read()
