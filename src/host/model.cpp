@@ -872,7 +872,31 @@ Model build_model(const Case& c) {
   const bool rate_dependent =
       std::any_of(c.materials.begin(), c.materials.end(),
                   [](const Material& mat) { return !mat.rate_dependence.strain_rate.empty(); });
-  if (rate_dependent && model.bonds.count > 0) {
+  // The elements' rate-dependent tension cut-off (FeForces::tension_rates): mohr_coulomb
+  // materials with a table, from the same strain rates.
+  const bool rated_elements =
+      std::any_of(c.materials.begin(), c.materials.end(), [](const Material& mat) {
+        return mat.model == MaterialModel::mohr_coulomb && !mat.rate_dependence.strain_rate.empty();
+      });
+  if (rated_elements) {
+    std::vector<RateLaw> rates(c.materials.size());
+    for (size_t i = 0; i < c.materials.size(); ++i) {
+      const Material& mat = c.materials[i];
+      if (mat.model != MaterialModel::mohr_coulomb) continue;
+      const Material::RateTable& table = mat.rate_dependence;
+      rates[i].count = static_cast<int>(table.strain_rate.size());
+      for (int k = 0; k < rates[i].count; ++k) {
+        rates[i].log10_rate[k] = std::log10(table.strain_rate[k]);
+        rates[i].strength[k] = table.strength[k];
+        rates[i].fracture_energy[k] = table.fracture_energy[k];
+      }
+    }
+    model.tension_rates = to_device_1d<RateLaw>("tension_rates", rates);
+    model.elements.tension_factor =
+        View<double*>("fracta::element_tension_factor", model.elements.count);
+    Kokkos::deep_copy(model.elements.tension_factor, 1.0);
+  }
+  if (rate_dependent && (model.bonds.count > 0 || rated_elements)) {
     model.nodes.v_filtered = View<double* [2]>("fracta::node_v_filtered", model.nodes.count);
     Kokkos::deep_copy(model.nodes.v_filtered, model.nodes.v);
   }

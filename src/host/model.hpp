@@ -69,6 +69,9 @@ struct Model {
   ListWorkspace lists;                        // conversion workspace for the lattice lists
   View<LatticeStiffness*> lattice_stiffness;  // per material
   View<BondLaw*> bond_laws;                   // per material
+  // Per material, the dynamic increase factors of the elements' tension cut-off (mohr_coulomb
+  // with rate_dependence; RateLaw count 0 for the others); empty when no material has them.
+  View<RateLaw*> tension_rates;
   // What a user should know about the model, one line each, printed by `fracta run` and
   // `fracta check`: cohesive materials whose process zone the lattice cannot resolve (the bond
   // tensile strength is capped; build_lattice, docs/physics.md 1.2, "Resolving the process
@@ -102,7 +105,8 @@ inline ConversionCriterion conversion_criterion(const Model& m) {
           m.scene.sim.conversion_on_tension,
           m.elements.nodes,
           m.nodes.x,
-          m.elements.reference_gradient_norm2};
+          m.elements.reference_gradient_norm2,
+          m.elements.tension_factor};
 }
 
 }  // namespace fracta

@@ -284,8 +284,8 @@ FeStepSums Simulation::element_forces(double dt) {
   const FeStepSums fe =
       m.has_adaptive
           ? compute_fe_forces(m.nodes, m.elements, m.materials, p, conversion_criterion(m),
-                              conversion_pending_, conversion_candidates_)
-          : compute_fe_forces(m.nodes, m.elements, m.materials, p);
+                              conversion_pending_, conversion_candidates_, m.tension_rates)
+          : compute_fe_forces(m.nodes, m.elements, m.materials, p, {}, {}, {}, m.tension_rates);
   if (fe.flagged > 0.0) conversion_flagged_ = true;
   return fe;
 }

@@ -192,6 +192,8 @@ struct ConversionCriterion {
   View<int* [4]> element_nodes;
   View<double* [2]> x;
   View<double*> reference_norm2;
+  // Dynamic increase factors of the tension cut-off (Elements::tension_factor); empty: 1.
+  View<double*> tension_factor;
   KOKKOS_INLINE_FUNCTION bool distorted(const int e, const double ratio) const {
     if (!(ratio > 0.0) || reference_norm2.extent(0) == 0 || x.extent(0) == 0) return false;
     double xc[4], yc[4];
@@ -215,8 +217,9 @@ struct ConversionCriterion {
       s1 = max_(s1, c + r);
     }
     const bool strain = m.conversion_strain > 0.0 && ep >= m.conversion_strain;
+    const double factor = tension_factor.extent(0) > 0 ? tension_factor(e) : 1.0;
     const bool tension =
-        on_tension && m.tensile_strength > 0.0 && s1 >= m.tensile_strength * (1.0 - 1e-9);
+        on_tension && m.tensile_strength > 0.0 && s1 >= m.tensile_strength * factor * (1.0 - 1e-9);
     return (strain || tension || distorted(e, m.conversion_length_ratio)) ? 1 : 0;
   }
 };
@@ -254,7 +257,8 @@ inline int compact_converted(Elements& el, const View<const int*>& adaptive,
                                       on_tension,
                                       el.nodes,
                                       positions,
-                                      el.reference_gradient_norm2};
+                                      el.reference_gradient_norm2,
+                                      el.tension_factor};
   int flagged = 0;
   Kokkos::parallel_reduce(
       "fracta::conversion_count", Kokkos::RangePolicy<ExecSpace>(0, n_active),
@@ -346,7 +350,8 @@ inline int compact_candidates(Elements& el, const View<const int*>& adaptive,
                                       on_tension,
                                       el.nodes,
                                       positions,
-                                      el.reference_gradient_norm2};
+                                      el.reference_gradient_norm2,
+                                      el.tension_factor};
   Kokkos::parallel_for(
       "fracta::conversion_candidates", Kokkos::RangePolicy<ExecSpace>(0, k),
       KOKKOS_LAMBDA(const int c) {

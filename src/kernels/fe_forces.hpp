@@ -7,6 +7,7 @@
 #pragma once
 #include "kernels/compat.hpp"
 #include "kernels/conversion.hpp"
+#include "kernels/laws.hpp"
 #include "kernels/materials.hpp"
 #include "kernels/scatter.hpp"
 #include "kernels/simd.hpp"
@@ -164,6 +165,11 @@ struct FeForces {
   // Nodal forces: added straight into nodes.f (kernels/scatter.hpp), atomically when the
   // elements do not run by the chunks of a ScatterPlan (GPUs).
   bool atomic = true;
+  // Rate-dependent tension cut-off (docs/physics.md 1.1, "Rate dependence"): per material, the
+  // dynamic increase factors (a RateLaw with count 0: none) and the filtered node velocities the
+  // strain rate is taken from; empty views: no material has one.
+  View<const RateLaw*> tension_rates;
+  View<double* [2]> v_filtered;
 
   static int batches(int active_count) { return (active_count + kLanes - 1) / kLanes; }
 
@@ -359,8 +365,18 @@ struct FeForces {
     T epeq = load_lanes<T>(elements.epeq.data(), q, q_consecutive);
     const T volume_old = load_lanes<T>(elements.qp_volume.data(), q, q_consecutive);
     const T viscosity_old = load_lanes<T>(elements.bulk_viscosity.data(), q, q_consecutive);
-    const auto full_update = update_point_stress(mat, l, volume, volume_old, s, epeq, sum);
-    if (conversion_pending.data() != nullptr) flag_conversion(mat, s, epeq, sum.convert);
+    T factor = splat<T>(1.0);
+    const bool rated =
+        tension_rates.extent(0) > 0 && tension_rates(elements.material(lanes.e[0])).active();
+    if (rated) factor = tension_factor_of(lanes, g, bx, by);
+    const auto full_update =
+        update_point_stress(mat, l, volume, volume_old, s, epeq, sum, rated, factor);
+    if (conversion_pending.data() != nullptr) {
+      if (rated)
+        flag_conversion_rated(mat, s, epeq, factor, sum.convert);
+      else
+        flag_conversion(mat, s, epeq, sum.convert);
+    }
 
     // Artificial bulk viscosity in compression (linear + quadratic, as LS-DYNA/Abaqus):
     // q = rho l (C2 l div^2 - C1 c div) for div < 0; it acts as a pressure on the forces only.
@@ -401,8 +417,9 @@ struct FeForces {
   template <class T>
   KOKKOS_FORCEINLINE_FUNCTION auto update_point_stress(const MaterialLaw& mat, const T (&l)[4],
                                                        const T& volume, const T& volume_old,
-                                                       T (&s)[4], T& epeq,
-                                                       ElementSums<T>& sum) const {
+                                                       T (&s)[4], T& epeq, ElementSums<T>& sum,
+                                                       const bool rated = false,
+                                                       const T& factor = T(1.0)) const {
     constexpr int L = LaneCount<T>::value;
     T rot_c, rot_s;  // the half-step rotation, used twice
     cayley_rotation<T>(0.25 * (l[1] - l[2]) * p.dt, rot_c, rot_s);
@@ -419,7 +436,14 @@ struct FeForces {
                         get_lane(s_old[3], k)};
         const double dl[3] = {get_lane(deps[0], k), get_lane(deps[1], k), get_lane(deps[2], k)};
         double ep = get_lane(epeq, k);
-        const double work = fracta::update_stress(mat, dl, sl, ep) * get_lane(volume, k);
+        // A raised cut-off only widens the elastic range, so the static law's may_leave_elastic
+        // above still marks every lane that may leave it.
+        const double f = get_lane(factor, k);
+        const double work =
+            (rated && f != 1.0
+                 ? fracta::update_stress(detail::with_tension_factor(mat, f), dl, sl, ep)
+                 : fracta::update_stress(mat, dl, sl, ep)) *
+            get_lane(volume, k);
         set_lane(plastic, k, get_lane(plastic, k) + work);
         set_lane(epeq, k, ep);
         for (int c = 0; c < 4; ++c) set_lane(s[c], k, sl[c]);
@@ -453,6 +477,52 @@ struct FeForces {
       const T d = limit - centre;
       convert = convert || d <= 1e-9 * limit || r2 >= d * d * (1.0 - 1e-6);
     }
+  }
+
+  // The same with the lanes' tension cut-off raised by their dynamic increase factors.
+  template <class T, class Mask>
+  KOKKOS_FORCEINLINE_FUNCTION void flag_conversion_rated(const MaterialLaw& mat, const T (&s)[4],
+                                                         const T& epeq, const T& factor,
+                                                         Mask& convert) const {
+    if (mat.conversion_strain > 0.0) convert = convert || epeq >= mat.conversion_strain;
+    if (on_tension && mat.tensile_strength > 0.0) {
+      const T centre = 0.5 * (s[0] + s[1]);
+      const T r2 = 0.25 * (s[0] - s[1]) * (s[0] - s[1]) + s[3] * s[3];
+      const T limit = mat.tensile_strength * (1.0 - 1e-9) * factor;
+      const T d = limit - centre;
+      convert = convert || d <= 1e-9 * limit || r2 >= d * d * (1.0 - 1e-6);
+    }
+  }
+
+  // The dynamic increase factor of the lanes' tension cut-off at point g (tension_rates): the
+  // table's strength factor at the largest principal in-plane strain rate (1/s, 0 in
+  // compression) of the filtered velocities (filter_velocities, bond_forces.hpp) over the point's
+  // gradients bx, by. Each element keeps the smallest over its points in tension_factor, which
+  // the conversion criterion reads, so a point held at its raised cut-off converts.
+  template <class T, int L>
+  KOKKOS_FORCEINLINE_FUNCTION T tension_factor_of(const ElementLanes<L>& lanes, const int g,
+                                                  const T (&bx)[4], const T (&by)[4]) const {
+    T factor = splat<T>(1.0);
+    const RateLaw& rate = tension_rates(elements.material(lanes.e[0]));
+    for (int k = 0; k < L; ++k) {
+      double lxx = 0, lxy = 0, lyx = 0, lyy = 0;
+      for (int a = 0; a < 4; ++a) {
+        const int n = lanes.node[a][k];
+        const double b0 = get_lane(bx[a], k), b1 = get_lane(by[a], k);
+        lxx += v_filtered(n, 0) * b0;
+        lxy += v_filtered(n, 0) * b1;
+        lyx += v_filtered(n, 1) * b0;
+        lyy += v_filtered(n, 1) * b1;
+      }
+      const double dxy = 0.5 * (lxy + lyx);
+      const double largest =
+          0.5 * (lxx + lyy) + sqrt_(0.25 * (lxx - lyy) * (lxx - lyy) + dxy * dxy);
+      const double f = rate.strength_factor(max_(largest, 0.0));
+      set_lane(factor, k, f);
+      const int e = lanes.e[k];
+      elements.tension_factor(e) = g == 0 ? f : min_(elements.tension_factor(e), f);
+    }
+    return factor;
   }
 
   // ---- Hourglass control ----------------------------------------------------------------------
@@ -612,25 +682,33 @@ inline Elements fe_element_views(const Elements& elements) {
   k.hourglass_force = elements.hourglass_force;
   k.recoverable_work = elements.recoverable_work;
   k.reference_gradient_norm2 = elements.reference_gradient_norm2;
+  k.tension_factor = elements.tension_factor;
   k.scatter = elements.scatter;
   return k;
 }
 
+// tension_rates (per material) and the nodes' v_filtered: the rate-dependent tension cut-off,
+// when a material has one (empty: none).
 inline FeStepSums compute_fe_forces(const Nodes& nodes, const Elements& elements,
                                     const View<const MaterialLaw*>& materials, const FeParams& p,
                                     const ConversionCriterion& criterion = {},
                                     const View<int>& conversion_pending = {},
-                                    const View<int*>& conversion_candidates = {}) {
+                                    const View<int*>& conversion_candidates = {},
+                                    const View<const RateLaw*>& tension_rates = {}) {
   if (elements.active_count == 0) return FeStepSums();
+  const View<double* [2]> v_filtered =
+      tension_rates.extent(0) > 0 ? nodes.v_filtered : View<double* [2]>();
   if (elements.qp_per_element == 1)
-    return launch_fe_forces("fracta::fe_forces",
-                            FeForces<1>{node_motion_views(nodes), fe_element_views(elements),
-                                        materials, p, criterion.adaptive, criterion.on_tension,
-                                        conversion_pending, conversion_candidates});
-  return launch_fe_forces("fracta::fe_forces_full",
-                          FeForces<4>{node_motion_views(nodes), fe_element_views(elements),
-                                      materials, p, criterion.adaptive, criterion.on_tension,
-                                      conversion_pending, conversion_candidates});
+    return launch_fe_forces(
+        "fracta::fe_forces",
+        FeForces<1>{node_motion_views(nodes), fe_element_views(elements), materials, p,
+                    criterion.adaptive, criterion.on_tension, conversion_pending,
+                    conversion_candidates, true, tension_rates, v_filtered});
+  return launch_fe_forces(
+      "fracta::fe_forces_full",
+      FeForces<4>{node_motion_views(nodes), fe_element_views(elements), materials, p,
+                  criterion.adaptive, criterion.on_tension, conversion_pending,
+                  conversion_candidates, true, tension_rates, v_filtered});
 }
 
 }  // namespace fracta

@@ -236,6 +236,19 @@ KOKKOS_INLINE_FUNCTION double effective_tension_cap(const MaterialLaw& m, double
   return cap;
 }
 
+// The law with its tension cut-off raised by a dynamic increase factor (>= 1): tensile_strength
+// times the factor, and the cached cap re-derived from it (effective_tension_cap).
+KOKKOS_INLINE_FUNCTION MaterialLaw with_tension_factor(const MaterialLaw& m, double factor) {
+  MaterialLaw out = m;
+  out.tensile_strength = m.tensile_strength * factor;
+  if (m.cone_cached) {
+    out.cone_cached = 0;
+    out.tension_cap = effective_tension_cap(out, m.cone_alpha, m.cone_k);
+    out.cone_cached = 1;
+  }
+  return out;
+}
+
 KOKKOS_INLINE_FUNCTION double drucker_prager_f(const double s[4], double alpha, double k) {
   const double p = (s[0] + s[1] + s[2]) / 3.0;
   const double d0 = s[0] - p, d1 = s[1] - p, d2 = s[2] - p;

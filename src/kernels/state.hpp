@@ -303,6 +303,9 @@ struct Elements {
   // sum b.b of each element's reference centre gradients (1/m^2), for the distortion criterion
   // of adaptive conversion (ConversionCriterion); empty when no body is adaptive.
   View<double*> reference_gradient_norm2;
+  // Dynamic increase factor of the tension cut-off in each element's last update (mohr_coulomb
+  // with a rate_dependence table: FeForces; read by ConversionCriterion); empty: none.
+  View<double*> tension_factor;
   // Nodal forces without atomics on CPUs: the chunks of the active list, coloured so that no
   // two chunks of a colour share a node (kernels/scatter.hpp; update_scatter_plan after every
   // change of `active`). The fixed chunks make the FE forces independent of the thread count.
