@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "host/case.hpp"
+#include "host/cracks.hpp"
 #include "host/simulation.hpp"
 
 namespace fracta::test {
@@ -104,6 +105,52 @@ inline void add_fixed(Case& c, const Segment& s, Boundary::Type type) {
   b.type = type;
   b.where.kind = NodeSelector::Kind::segment;
   b.where.segment = s;
+  c.boundaries.push_back(b);
+}
+
+// Direction (degrees, in (-90, 90]) of the line through `origin` fitted by least squares (the
+// principal axis of sum r r^T) to the points of a crack's path between r_min and r_max (m) from
+// it; `points` gets how many there were.
+inline double path_angle_through(const CrackTrace& t, Vec2 origin, double r_min, double r_max,
+                                 int* points = nullptr) {
+  double sxx = 0, sxy = 0, syy = 0;
+  int used = 0;
+  for (const Vec2& p : t.path) {
+    const double rx = p[0] - origin[0], ry = p[1] - origin[1], r = std::hypot(rx, ry);
+    if (r < r_min || r > r_max) continue;
+    sxx += rx * rx, sxy += rx * ry, syy += ry * ry;
+    ++used;
+  }
+  if (points) *points = used;
+  return 0.5 * std::atan2(2 * sxy, sxx - syy) * 180 / M_PI;
+}
+
+// Rayleigh speed of a plane-stress plate (m/s): Viktorov's (0.862 + 1.14 v) / (1 + v) c_s with
+// the in-plane Poisson ratio v = nu / (1 + nu) of plane stress (the formula is for plane strain).
+inline double plane_stress_rayleigh_speed(double E, double nu, double rho) {
+  const double shear_speed = std::sqrt(E / (2 * (1 + nu)) / rho), v = nu / (1 + nu);
+  return (0.862 + 1.14 * v) / (1 + v) * shear_speed;
+}
+
+// An angle of a line (degrees) brought into (-90, 90].
+inline double line_angle(double degrees) {
+  while (degrees > 90) degrees -= 180;
+  while (degrees <= -90) degrees += 180;
+  return degrees;
+}
+
+// A `velocity` boundary named `name` on the nodes within tol of segment s: component (0 = x,
+// 1 = y) follows the table (t, v).
+inline void add_velocity(Case& c, const std::string& name, const Segment& s, int component,
+                         std::vector<double> t, std::vector<double> v) {
+  Boundary b;
+  b.name = name;
+  b.type = Boundary::Type::velocity;
+  b.component = component;
+  b.where.kind = NodeSelector::Kind::segment;
+  b.where.segment = s;
+  b.time = std::move(t);
+  b.value = std::move(v);
   c.boundaries.push_back(b);
 }
 

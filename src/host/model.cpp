@@ -335,6 +335,20 @@ void draw_heterogeneity(Model& model) {
 // Bond slots (every edge once and every diagonal of the elements of convertible bodies, in the
 // bond kernel's order; none when no body is convertible), particle views, the topology for contact
 // exclusion, the contact system, and the time-0 conversion of de parts.
+// A material's dynamic increase factors as the kernels read them (RateLaw): the table in log10
+// of the strain rate; count 0 without a table.
+RateLaw rate_law(const Material::RateTable& table) {
+  static_assert(Material::RateTable::kMaxEntries == RateLaw::kMaxEntries);
+  RateLaw law;
+  law.count = static_cast<int>(table.strain_rate.size());
+  for (int k = 0; k < law.count; ++k) {
+    law.log10_rate[k] = std::log10(table.strain_rate[k]);
+    law.strength[k] = table.strength[k];
+    law.fracture_energy[k] = table.fracture_energy[k];
+  }
+  return law;
+}
+
 void build_lattice(Model& model, const std::vector<int>& converted) {
   const Case& c = model.scene;
   const HostMesh& m = model.mesh;
@@ -542,15 +556,7 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
       law.cohesion = mat.cohesion;
       law.tan_friction = std::tan(mat.friction_angle);
     }
-    // Dynamic increase factors (RateLaw): the table in log10 of the strain rate.
-    static_assert(Material::RateTable::kMaxEntries == RateLaw::kMaxEntries);
-    const Material::RateTable& rate = mat.rate_dependence;
-    law.rate.count = static_cast<int>(rate.strain_rate.size());
-    for (int k = 0; k < law.rate.count; ++k) {
-      law.rate.log10_rate[k] = std::log10(rate.strain_rate[k]);
-      law.rate.strength[k] = rate.strength[k];
-      law.rate.fracture_energy[k] = rate.fracture_energy[k];
-    }
+    law.rate = rate_law(mat.rate_dependence);
     laws.push_back(law);
   }
   model.lattice_stiffness = to_device_1d<LatticeStiffness>("lattice_stiffness", stiffness);
@@ -895,17 +901,9 @@ Model build_model(const Case& c) {
       });
   if (rated_elements) {
     std::vector<RateLaw> rates(c.materials.size());
-    for (size_t i = 0; i < c.materials.size(); ++i) {
-      const Material& mat = c.materials[i];
-      if (mat.model != MaterialModel::mohr_coulomb) continue;
-      const Material::RateTable& table = mat.rate_dependence;
-      rates[i].count = static_cast<int>(table.strain_rate.size());
-      for (int k = 0; k < rates[i].count; ++k) {
-        rates[i].log10_rate[k] = std::log10(table.strain_rate[k]);
-        rates[i].strength[k] = table.strength[k];
-        rates[i].fracture_energy[k] = table.fracture_energy[k];
-      }
-    }
+    for (size_t i = 0; i < c.materials.size(); ++i)
+      if (c.materials[i].model == MaterialModel::mohr_coulomb)
+        rates[i] = rate_law(c.materials[i].rate_dependence);
     model.tension_rates = to_device_1d<RateLaw>("tension_rates", rates);
     model.elements.tension_factor =
         View<double*>("fracta::element_tension_factor", model.elements.count);

@@ -365,18 +365,14 @@ struct FeForces {
     T epeq = load_lanes<T>(elements.epeq.data(), q, q_consecutive);
     const T volume_old = load_lanes<T>(elements.qp_volume.data(), q, q_consecutive);
     const T viscosity_old = load_lanes<T>(elements.bulk_viscosity.data(), q, q_consecutive);
+    // The dynamic increase factor of the tension cut-off (1: none).
     T factor = splat<T>(1.0);
-    const bool rated =
-        tension_rates.extent(0) > 0 && tension_rates(elements.material(lanes.e[0])).active();
-    if (rated) factor = tension_factor_of(lanes, g, bx, by);
-    const auto full_update =
-        update_point_stress(mat, l, volume, volume_old, s, epeq, sum, rated, factor);
-    if (conversion_pending.data() != nullptr) {
-      if (rated)
-        flag_conversion_rated(mat, s, epeq, factor, sum.convert);
-      else
-        flag_conversion(mat, s, epeq, sum.convert);
+    if (tension_rates.extent(0) > 0) {
+      const RateLaw& rate = tension_rates(elements.material(lanes.e[0]));
+      if (rate.active()) factor = tension_factor_of(rate, lanes, g, bx, by);
     }
+    const auto full_update = update_point_stress(mat, l, volume, volume_old, s, epeq, sum, factor);
+    if (conversion_pending.data() != nullptr) flag_conversion(mat, s, epeq, factor, sum.convert);
 
     // Artificial bulk viscosity in compression (linear + quadratic, as LS-DYNA/Abaqus):
     // q = rho l (C2 l div^2 - C1 c div) for div < 0; it acts as a pressure on the forces only.
@@ -418,8 +414,7 @@ struct FeForces {
   KOKKOS_FORCEINLINE_FUNCTION auto update_point_stress(const MaterialLaw& mat, const T (&l)[4],
                                                        const T& volume, const T& volume_old,
                                                        T (&s)[4], T& epeq, ElementSums<T>& sum,
-                                                       const bool rated = false,
-                                                       const T& factor = T(1.0)) const {
+                                                       const T& factor) const {
     constexpr int L = LaneCount<T>::value;
     T rot_c, rot_s;  // the half-step rotation, used twice
     cayley_rotation<T>(0.25 * (l[1] - l[2]) * p.dt, rot_c, rot_s);
@@ -440,9 +435,8 @@ struct FeForces {
         // above still marks every lane that may leave it.
         const double f = get_lane(factor, k);
         const double work =
-            (rated && f != 1.0
-                 ? fracta::update_stress(detail::with_tension_factor(mat, f), dl, sl, ep)
-                 : fracta::update_stress(mat, dl, sl, ep)) *
+            (f != 1.0 ? fracta::update_stress(detail::with_tension_factor(mat, f), dl, sl, ep)
+                      : fracta::update_stress(mat, dl, sl, ep)) *
             get_lane(volume, k);
         set_lane(plastic, k, get_lane(plastic, k) + work);
         set_lane(epeq, k, ep);
@@ -465,30 +459,17 @@ struct FeForces {
   // stress c + r reaches T' when T' - c <= 0 or r^2 >= (T' - c)^2. Generous (r within 5e-7 of
   // T' - c, or c within 1e-9 T' of T'), far beyond the round-off of either form, so every
   // element the exact criterion takes is flagged: the conversion re-checks only the flagged ones
-  // exactly, and a false alarm costs one check.
+  // exactly, and a false alarm costs one check. T' is the tensile strength times the lanes'
+  // tension_factor (the rate-dependent cut-off's, tension_factor_of; 1 without one).
   template <class T, class Mask>
   KOKKOS_FORCEINLINE_FUNCTION void flag_conversion(const MaterialLaw& mat, const T (&s)[4],
-                                                   const T& epeq, Mask& convert) const {
+                                                   const T& epeq, const T& tension_factor,
+                                                   Mask& convert) const {
     if (mat.conversion_strain > 0.0) convert = convert || epeq >= mat.conversion_strain;
     if (on_tension && mat.tensile_strength > 0.0) {
       const T centre = 0.5 * (s[0] + s[1]);
       const T r2 = 0.25 * (s[0] - s[1]) * (s[0] - s[1]) + s[3] * s[3];
-      const double limit = mat.tensile_strength * (1.0 - 1e-9);
-      const T d = limit - centre;
-      convert = convert || d <= 1e-9 * limit || r2 >= d * d * (1.0 - 1e-6);
-    }
-  }
-
-  // The same with the lanes' tension cut-off raised by their dynamic increase factors.
-  template <class T, class Mask>
-  KOKKOS_FORCEINLINE_FUNCTION void flag_conversion_rated(const MaterialLaw& mat, const T (&s)[4],
-                                                         const T& epeq, const T& factor,
-                                                         Mask& convert) const {
-    if (mat.conversion_strain > 0.0) convert = convert || epeq >= mat.conversion_strain;
-    if (on_tension && mat.tensile_strength > 0.0) {
-      const T centre = 0.5 * (s[0] + s[1]);
-      const T r2 = 0.25 * (s[0] - s[1]) * (s[0] - s[1]) + s[3] * s[3];
-      const T limit = mat.tensile_strength * (1.0 - 1e-9) * factor;
+      const T limit = mat.tensile_strength * (1.0 - 1e-9) * tension_factor;
       const T d = limit - centre;
       convert = convert || d <= 1e-9 * limit || r2 >= d * d * (1.0 - 1e-6);
     }
@@ -500,10 +481,10 @@ struct FeForces {
   // gradients bx, by. Each element keeps the smallest over its points in tension_factor, which
   // the conversion criterion reads, so a point held at its raised cut-off converts.
   template <class T, int L>
-  KOKKOS_FORCEINLINE_FUNCTION T tension_factor_of(const ElementLanes<L>& lanes, const int g,
-                                                  const T (&bx)[4], const T (&by)[4]) const {
+  KOKKOS_FORCEINLINE_FUNCTION T tension_factor_of(const RateLaw& rate, const ElementLanes<L>& lanes,
+                                                  const int g, const T (&bx)[4],
+                                                  const T (&by)[4]) const {
     T factor = splat<T>(1.0);
-    const RateLaw& rate = tension_rates(elements.material(lanes.e[0]));
     for (int k = 0; k < L; ++k) {
       double lxx = 0, lxy = 0, lyx = 0, lyy = 0;
       for (int a = 0; a < 4; ++a) {

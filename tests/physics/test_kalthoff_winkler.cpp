@@ -15,6 +15,7 @@
 #include "host/case.hpp"
 #include "host/cracks.hpp"
 #include "host/simulation.hpp"
+#include "test_util.hpp"
 
 namespace fracta {
 namespace {
@@ -39,19 +40,9 @@ TEST(KalthoffWinkler, CrackLeavesTheNotchAtSeventyDegrees) {
   const CrackTrace t = trace_crack(sim, notch_tip, link, 10 * h);
   ASSERT_TRUE(t.found);
   ASSERT_GT(std::hypot(t.tip[0] - notch_tip[0], t.tip[1] - notch_tip[1]), 25e-3);
-  // Line through the tip: angle = atan2(sum r_y r_x ..) of the least-squares direction
-  // minimising the distances to the points, i.e. the principal axis of sum r r^T.
-  double sxx = 0, sxy = 0, syy = 0;
-  for (const Vec2& p : t.path) {
-    const double rx = p[0] - notch_tip[0], ry = p[1] - notch_tip[1], r = std::hypot(rx, ry);
-    if (r < 5e-3 || r > 25e-3) continue;
-    sxx += rx * rx, sxy += rx * ry, syy += ry * ry;
-  }
-  const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy) * 180 / M_PI;
+  const double angle = test::path_angle_through(t, notch_tip, 5e-3, 25e-3);
   EXPECT_NEAR(angle, 70.0, 5.0);
-  // Rayleigh speed of the plane-stress plate, (0.862 + 1.14 nu) / (1 + nu) c_s (Viktorov).
-  const double nu = 0.3, shear = std::sqrt(190e9 / (2 * (1 + nu)) / 8000.0);
-  EXPECT_LT(fastest, (0.862 + 1.14 * nu) / (1 + nu) * shear);
+  EXPECT_LT(fastest, test::plane_stress_rayleigh_speed(190e9, 0.3, 8000.0));
   EXPECT_GT(fastest, 0);
   EXPECT_EQ(t.points, sim.history().count.broken_bonds);  // no damage elsewhere broke through
   ::testing::Test::RecordProperty("angle_deg", std::to_string(angle));

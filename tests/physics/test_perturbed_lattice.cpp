@@ -237,20 +237,10 @@ points = )" + polygon(-0.3, 0.3, -9, -4) +
   const double h = 2.5e-4;
   const CrackTrace t = trace_crack(sim, notch_tip, 2 * h, 10 * h);
   EXPECT_TRUE(t.found);
-  double sxx = 0, sxy = 0, syy = 0;
   int used = 0;
-  for (const Vec2& p : t.path) {
-    const double rx = p[0] - notch_tip[0], ry = p[1] - notch_tip[1], r = std::hypot(rx, ry);
-    if (r < 1e-3 || r > 8e-3) continue;
-    sxx += rx * rx, sxy += rx * ry, syy += ry * ry;
-    ++used;
-  }
+  const double angle = test::path_angle_through(t, notch_tip, 1e-3, 8e-3, &used);
   EXPECT_GT(used, 10) << "the crack is " << t.length * 1e3 << " mm long";
-  double angle = 0.5 * std::atan2(2 * sxy, sxx - syy) * 180 / M_PI;  // in (-90, 90]
-  double deviation = angle - (alpha_deg + 90);
-  while (deviation > 90) deviation -= 180;
-  while (deviation <= -90) deviation += 180;
-  return deviation;
+  return test::line_angle(angle - (alpha_deg + 90));
 }
 
 // The Kalthoff-Winkler plate turned 30 degrees against the lattice
@@ -276,17 +266,11 @@ std::array<double, 2> turned_kalthoff_angles(double perturbation, std::uint64_t 
     const auto tip = at(50, side * 25);
     const CrackTrace t = trace_crack(sim, Vec2{tip[0], tip[1]}, 2e-3, 10e-3);
     EXPECT_TRUE(t.found);
-    double sss = 0, ssn = 0, snn = 0;
     int used = 0;
-    for (const Vec2& p : t.path) {
-      const double wx = p[0] - tip[0], wy = p[1] - tip[1], r = std::hypot(wx, wy);
-      if (r < 5e-3 || r > 25e-3) continue;
-      const double ds = wx * ca + wy * sa, dn = side * (-wx * sa + wy * ca);  // mirrored: n >= 0
-      sss += ds * ds, ssn += ds * dn, snn += dn * dn;
-      ++used;
-    }
+    const double world = test::path_angle_through(t, Vec2{tip[0], tip[1]}, 5e-3, 25e-3, &used);
     EXPECT_GE(used, 5) << "side " << side << ": the crack is " << t.length * 1e3 << " mm long";
-    angles[side > 0 ? 0 : 1] = 0.5 * std::atan2(2 * ssn, sss - snn) * 180 / M_PI;
+    // In the plate's axes, the lower crack mirrored onto the upper one.
+    angles[side > 0 ? 0 : 1] = test::line_angle(side * (world - 30));
   }
   return angles;
 }

@@ -39,17 +39,9 @@ RateRun pull(double strain_rate, BodyMethod method) {
   m.rate_dependence = {{1e-2, 1e2}, {1.0, 3.0}, {1.0, 1.0}};
   c.sim.conversion_on_tension = method == BodyMethod::adaptive;
   const double speed = 0.5 * strain_rate * L, ramp = 20e-6;
-  for (int side = 0; side < 2; ++side) {
-    Boundary b;
-    b.name = side ? "right" : "left";
-    b.type = Boundary::Type::velocity;
-    b.component = 0;
-    b.where.kind = NodeSelector::Kind::segment;
-    b.where.segment = test::segment(side * L, 0, side * L, H);
-    b.time = {0.0, ramp};
-    b.value = {0.0, side ? speed : -speed};
-    c.boundaries.push_back(b);
-  }
+  for (int side = 0; side < 2; ++side)
+    test::add_velocity(c, side ? "right" : "left", test::segment(side * L, 0, side * L, H), 0,
+                       {0.0, ramp}, {0.0, side ? speed : -speed});
   c.sim.end_time = ramp + 2.0 * 3.0 * sigma_t / (E * strain_rate);
   Simulation sim(c);
   RateRun r;
