@@ -133,7 +133,8 @@ const Choices<Formulation> kFormulations = {{"plane_strain", Formulation::plane_
                                             {"plane_stress", Formulation::plane_stress}};
 const Choices<MaterialModel> kModels = {{"elastic", MaterialModel::elastic},
                                         {"bilinear_j2", MaterialModel::bilinear_j2},
-                                        {"mohr_coulomb", MaterialModel::mohr_coulomb}};
+                                        {"mohr_coulomb", MaterialModel::mohr_coulomb},
+                                        {"hjc", MaterialModel::hjc}};
 const Choices<BodyMethod> kMethods = {{"fe", BodyMethod::fe},
                                       {"de", BodyMethod::de},
                                       {"adaptive", BodyMethod::adaptive},
@@ -639,8 +640,6 @@ SimulationParams read_simulation(const Reader& r) {
 const KeyList kMaterialCommonKeys = {"name",
                                      "model",
                                      "density",
-                                     "youngs_modulus",
-                                     "poisson_ratio",
                                      "tensile_strength",
                                      "conversion_strain",
                                      "conversion_length_ratio",
@@ -648,9 +647,66 @@ const KeyList kMaterialCommonKeys = {"name",
                                      "strength_spread",
                                      "rate_dependence"};
 const std::map<MaterialModel, KeyList> kMaterialModelKeys = {
-    {MaterialModel::elastic, {"fracture_energy"}},
-    {MaterialModel::bilinear_j2, {"yield_stress", "plastic_modulus", "tangent_modulus"}},
-    {MaterialModel::mohr_coulomb, {"cohesion", "friction_angle", "fracture_energy"}}};
+    {MaterialModel::elastic, {"youngs_modulus", "poisson_ratio", "fracture_energy"}},
+    {MaterialModel::bilinear_j2,
+     {"youngs_modulus", "poisson_ratio", "yield_stress", "plastic_modulus", "tangent_modulus"}},
+    {MaterialModel::mohr_coulomb,
+     {"youngs_modulus", "poisson_ratio", "cohesion", "friction_angle", "fracture_energy"}},
+    {MaterialModel::hjc, {"shear_modulus", "compressive_strength", "hjc", "fracture_energy"}}};
+
+// [[material]] model = "hjc": shear_modulus, compressive_strength (f'_c) and the table
+// hjc = { A, B, N, C, S_max, reference_strain_rate, D1, D2, EF_min, p_crush, mu_crush, p_lock,
+// mu_lock, K1, K2, K3 } in the symbols of Holmquist, Johnson & Cook (1993), SI units (pressures
+// and K in Pa); tensile_strength is their T. Sets m.hjc and the elastic constants from G and
+// K_e = p_crush / mu_crush.
+void read_hjc(const Reader& r, Material& m) {
+  const double G = r.number("shear_modulus", Range::gt(0));
+  HjcParams& h = m.hjc;
+  h.fc = r.number("compressive_strength", Range::gt(0));
+  if (!(m.tensile_strength > 0.0)) r.fail("tensile_strength", "must be > 0 for model \"hjc\" (T)");
+  h.t = m.tensile_strength;
+  const Reader t = r.table("hjc");
+  t.allow_only({"A", "B", "N", "C", "S_max", "reference_strain_rate", "D1", "D2", "EF_min",
+                "p_crush", "mu_crush", "p_lock", "mu_lock", "K1", "K2", "K3"});
+  h.a = t.number("A", Range::ge(0));
+  h.b = t.number("B", Range::ge(0));
+  h.n = t.number("N", Range::gt(0).le(1));
+  h.c = t.number("C", Range::ge(0));
+  h.s_max = t.number("S_max", Range::gt(0));
+  h.eps0 = t.number("reference_strain_rate", Range::gt(0), 1.0);
+  h.d1 = t.number("D1", Range::ge(0));
+  h.d2 = t.number("D2", Range::ge(0));
+  h.ef_min = t.number("EF_min", Range::gt(0));
+  h.p_crush = t.number("p_crush", Range::gt(0));
+  h.mu_crush = t.number("mu_crush", Range::gt(0).lt(1));
+  h.p_lock = t.number("p_lock", Range::gt(h.p_crush));
+  h.mu_lock = t.number("mu_lock", Range::gt(h.mu_crush).lt(1));
+  h.k1 = t.number("K1", Range::gt(0));
+  h.k2 = t.number("K2", Range::any());
+  h.k3 = t.number("K3", Range::any());
+  // Crushing must leave a plastic volumetric strain >= 0: both unloading moduli (K_e at its
+  // start, K1 at its end) at least the slope of the crush line.
+  const double k_elastic = h.p_crush / h.mu_crush;
+  const double crush_slope = (h.p_lock - h.p_crush) / (h.mu_lock - h.mu_crush);
+  if (k_elastic < crush_slope)
+    t.fail("p_crush",
+           "p_crush / mu_crush (" + fmt(k_elastic) +
+               " Pa) must be at least the slope of the crush line to (mu_lock, p_lock) (" +
+               fmt(crush_slope) + " Pa)");
+  if (h.k1 < crush_slope)
+    t.fail("K1", "must be at least the slope of the crush line (" + fmt(crush_slope) + " Pa)");
+  // The fully dense curve must stiffen or hold: dP/dmu_bar = K1 + 2 K2 x + 3 K3 x^2 > 0 on
+  // [0, 1] (x = 1 is a doubled density, beyond any impact).
+  for (int i = 0; i <= 100; ++i) {
+    const double x = i / 100.0;
+    if (!(h.k1 + 2.0 * h.k2 * x + 3.0 * h.k3 * x * x > 0.0))
+      t.fail("K2", "with K1 and K3 the fully dense pressure falls at mu_bar = " + fmt(x) +
+                       " (dP/dmu_bar = K1 + 2 K2 mu_bar + 3 K3 mu_bar^2 must stay > 0)");
+  }
+  const double K = k_elastic;
+  m.youngs_modulus = 9.0 * K * G / (3.0 * K + G);
+  m.poisson_ratio = (3.0 * K - 2.0 * G) / (2.0 * (3.0 * K + G));
+}
 
 // Slope of stress vs plastic strain: `plastic_modulus` H, or from `tangent_modulus` Et.
 double read_plastic_modulus(const Reader& r, double youngs_modulus) {
@@ -700,7 +756,7 @@ Material::RateTable read_rate_dependence(const Reader& r) {
   return t;
 }
 
-Material read_material(const Reader& r, Names& names) {
+Material read_material(const Reader& r, Names& names, Formulation formulation) {
   KeyList all = kMaterialCommonKeys;
   for (const auto& [model, keys] : kMaterialModelKeys) all = concat(all, keys);
   r.allow_only(all);
@@ -712,12 +768,19 @@ Material read_material(const Reader& r, Names& names) {
   r.only_applicable(concat(kMaterialCommonKeys, kMaterialModelKeys.at(m.model)),
                     "model " + in_quotes(name_of(kModels, m.model)));
   m.density = r.number("density", Range::gt(0));
-  m.youngs_modulus = r.number("youngs_modulus", Range::gt(0));
-  m.poisson_ratio = r.number("poisson_ratio", Range::gt(-1).lt(0.5));
   const bool mc = m.model == MaterialModel::mohr_coulomb;
-  m.tensile_strength = mc ? r.number("tensile_strength", Range::ge(0))
-                          : r.number("tensile_strength", Range::ge(0), 0.0);
-  m.conversion_strain = r.number("conversion_strain", Range::gt(0), mc ? 0.02 : 0.5);
+  const bool hjc = m.model == MaterialModel::hjc;
+  m.tensile_strength = mc || hjc ? r.number("tensile_strength", Range::ge(0))
+                                 : r.number("tensile_strength", Range::ge(0), 0.0);
+  if (hjc) {
+    if (formulation != Formulation::plane_strain)
+      r.fail("model", "\"hjc\" needs simulation.formulation = \"plane_strain\"");
+    read_hjc(r, m);
+  } else {
+    m.youngs_modulus = r.number("youngs_modulus", Range::gt(0));
+    m.poisson_ratio = r.number("poisson_ratio", Range::gt(-1).lt(0.5));
+  }
+  m.conversion_strain = r.number("conversion_strain", Range::gt(0), mc || hjc ? 0.02 : 0.5);
   m.conversion_length_ratio =
       r.number("conversion_length_ratio", Range::ge(0).lt(1), kDefaultConversionLengthRatio);
   if (m.model == MaterialModel::bilinear_j2) {
@@ -970,7 +1033,8 @@ void read_case(const Reader& r, Case& c) {
   c.sim = read_simulation(r.table("simulation"));
 
   Names materials("material");
-  for (const Reader& e : r.entries("material")) c.materials.push_back(read_material(e, materials));
+  for (const Reader& e : r.entries("material"))
+    c.materials.push_back(read_material(e, materials, c.sim.formulation));
   if (c.materials.empty()) r.fail("material", "at least one [[material]] is required");
 
   if (auto t = r.optional_table("contact")) c.contact = read_contact(*t);

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "kernels/hjc_params.hpp"
+
 namespace fracta {
 
 // Where a value came from, for error messages ("file:line: key: what is wrong").
@@ -29,7 +31,7 @@ struct InputError : std::runtime_error {
 using Vec2 = std::array<double, 2>;
 
 enum class Formulation { plane_stress, plane_strain };
-enum class MaterialModel { elastic, bilinear_j2, mohr_coulomb };
+enum class MaterialModel { elastic, bilinear_j2, mohr_coulomb, hjc };
 enum class BodyMethod { fe, de, adaptive, rigid };
 enum class HourglassForm { viscous, stiffness };
 enum class Integration { reduced, full };  // 1-point + hourglass control, or 2x2 Gauss
@@ -76,6 +78,10 @@ struct Material {
   double friction_angle = 0;     // rad (file: degrees) (mohr_coulomb)
   double tensile_strength = 0;   // Pa; tension cut-off (mohr_coulomb) and bond strength; 0 = none
   double conversion_strain = 0;  // equivalent plastic strain that converts an element
+  // hjc: its constants (the [[material]] hjc table, compressive_strength, tensile_strength);
+  // youngs_modulus and poisson_ratio are then derived from shear_modulus and the elastic bulk
+  // modulus p_crush / mu_crush.
+  HjcParams hjc;
   // An element converts when its characteristic length has shrunk below this fraction of its
   // initial one (distortion, compression): its stable step is then as much below its initial.
   double conversion_length_ratio = kDefaultConversionLengthRatio;

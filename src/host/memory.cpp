@@ -63,6 +63,9 @@ constexpr double kLatticeElementBytes = 88;
 constexpr double kConvertibleCellBytes = 4 * (108 + 24) + 32 + 16 + 232 + 350;
 // Weibull strengths: a factor per slot and the smallest per cell (heterogeneity.hpp).
 constexpr double kWeibullCellBytes = 4 * 8 + 8;
+// Law state of every quadrature point when a material keeps one (hjc: 3 doubles), in the state
+// and its snapshot.
+constexpr double kLawStatePointBytes = 2 * 24;
 // Rate dependence: the filtered velocity of every node, in the state and its snapshot.
 constexpr double kRateNodeBytes = 2 * 16;
 // Contact discs (every node of a convertible body, the boundary nodes of the others): disc id,
@@ -94,12 +97,17 @@ MemoryEstimate estimate_memory(const Case& c) {
   const bool lattice =
       c.bodies.size() > 1 || std::any_of(c.bodies.begin(), c.bodies.end(), body_has_lattice);
   const int qp = c.sim.integration == Integration::full ? 4 : 1;
+  // Allocated for every point of the mesh when any material keeps a state (model.cpp).
+  const bool law_state = std::any_of(c.materials.begin(), c.materials.end(), [](const Material& m) {
+    return m.model == MaterialModel::hjc;
+  });
   double largest = -1;
   for (size_t i = 0; i < c.bodies.size(); ++i) {
     const BodyGrid g = body_grid(c.bodies[i]);
     const double cells = g.cells(), nodes = g.nodes();
     double bytes = nodes * kNodeBytes +
                    cells * (kElementBytes + qp * kQuadraturePointBytes + kRunBytesPerCell);
+    if (law_state) bytes += cells * qp * kLawStatePointBytes;
     if (lattice) bytes += nodes * kLatticeNodeBytes + cells * kLatticeElementBytes;
     if (body_has_lattice(c.bodies[i])) {
       bytes += cells * kConvertibleCellBytes + nodes * kDiscBytes;

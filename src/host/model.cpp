@@ -18,6 +18,7 @@ namespace fracta {
 MaterialLaw material_law(const Material& m, Formulation f) {
   const int model = m.model == MaterialModel::elastic       ? kElastic
                     : m.model == MaterialModel::bilinear_j2 ? kBilinearJ2
+                    : m.model == MaterialModel::hjc         ? kHjc
                                                             : kMohrCoulomb;
   MaterialLaw law = make_material_law(model, f == Formulation::plane_strain, m.density,
                                       m.youngs_modulus, m.poisson_ratio);
@@ -28,6 +29,7 @@ MaterialLaw material_law(const Material& m, Formulation f) {
   law.tensile_strength = m.tensile_strength;
   law.conversion_strain = m.conversion_strain;
   law.conversion_length_ratio = m.conversion_length_ratio;
+  law.hjc = m.hjc;
   cache_derived(law);
   return law;
 }
@@ -854,6 +856,10 @@ Model build_model(const Case& c) {
   el.epeq = View<double*>("fracta::qp_epeq", static_cast<size_t>(ne) * qp);
   el.qp_volume = View<double*>("fracta::qp_volume", static_cast<size_t>(ne) * qp);
   el.bulk_viscosity = View<double*>("fracta::qp_bulk_viscosity", static_cast<size_t>(ne) * qp);
+  // The state of laws that keep one (hjc), zero: intact, at rest density.
+  if (std::any_of(c.materials.begin(), c.materials.end(),
+                  [](const Material& mat) { return mat.model == MaterialModel::hjc; }))
+    el.law_state = View<double* [3]>("fracta::qp_law_state", static_cast<size_t>(ne) * qp);
   el.hourglass_disp = decltype(el.hourglass_disp)("fracta::element_hourglass_disp", ne);
   el.hourglass_force = decltype(el.hourglass_force)("fracta::element_hourglass_force", ne);
   el.recoverable_work = View<double*>("fracta::element_recoverable_work", ne);

@@ -37,6 +37,7 @@ void for_each_state_view(StateViews& a, StateViews& b, F&& f) {
   f("elements.epeq", e.epeq, se.epeq);
   f("elements.qp_volume", e.qp_volume, se.qp_volume);
   f("elements.bulk_viscosity", e.bulk_viscosity, se.bulk_viscosity);
+  f("elements.law_state", e.law_state, se.law_state);  // empty without an hjc material
   f("elements.hourglass_disp", e.hourglass_disp, se.hourglass_disp);
   f("elements.hourglass_force", e.hourglass_force, se.hourglass_force);
   f("elements.recoverable_work", e.recoverable_work, se.recoverable_work);

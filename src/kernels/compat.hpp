@@ -71,6 +71,27 @@ KOKKOS_INLINE_FUNCTION double sin_(double a) {
   return Kokkos::Experimental::sin(a);
 #endif
 }
+KOKKOS_INLINE_FUNCTION double log_(double a) {
+#if KOKKOS_VERSION >= 40000
+  return Kokkos::log(a);
+#else
+  return Kokkos::Experimental::log(a);
+#endif
+}
+KOKKOS_INLINE_FUNCTION double exp_(double a) {
+#if KOKKOS_VERSION >= 40000
+  return Kokkos::exp(a);
+#else
+  return Kokkos::Experimental::exp(a);
+#endif
+}
+KOKKOS_INLINE_FUNCTION double pow_(double a, double b) {
+#if KOKKOS_VERSION >= 40000
+  return Kokkos::pow(a, b);
+#else
+  return Kokkos::Experimental::pow(a, b);
+#endif
+}
 KOKKOS_INLINE_FUNCTION bool isfinite_(double a) {
   return a - a == 0.0;
 }

@@ -224,7 +224,8 @@ struct FeForces {
     T area;                                      // sum of the points' weights (m^2)
     T div_rate;                                  // smallest velocity divergence, or 0 (1/s)
     T dt_element;                                // stable step bound (stable_dt.hpp)
-    Mask inverted, convert;                      // a point's weight not positive; flagged
+    T wave_speed;  // P-wave speed of the stable step (m/s): the material's, or its points' now
+    Mask inverted, convert;  // a point's weight not positive; flagged
   };
 
   // Active elements [first, first + L), L = LaneCount<T>, all of one material: gather the
@@ -240,8 +241,16 @@ struct FeForces {
     gather_corners(lanes, x, y, vx, vy);
     for (int a = 0; a < 4; ++a) fx[a] = fy[a] = splat<T>(0.0);
     const T zero = splat<T>(0.0);
-    ElementSums<T> sum{
-        zero, zero, zero, zero, zero, zero, splat<T>(1e300), !all_lanes<T>(), !all_lanes<T>()};
+    ElementSums<T> sum{zero,
+                       zero,
+                       zero,
+                       zero,
+                       zero,
+                       zero,
+                       splat<T>(1e300),
+                       splat<T>(mat.p_wave_speed),
+                       !all_lanes<T>(),
+                       !all_lanes<T>()};
     for (int g = 0; g < QP; ++g) {
       T l[4], bx[4], by[4];
       velocity_gradient(x, y, vx, vy, g, l);
@@ -255,13 +264,20 @@ struct FeForces {
         T b2, sqrt_b2;
         hourglass(lanes, mat, x, y, vx, vy, bx, by, weight, fx, fy, sum.hourglass, b2, sqrt_b2);
         // len is sqrt(weight) here (QP = 1).
-        sum.dt_element = one_point_stable_dt(b2, sqrt_b2, len, sum.div_rate, mat.p_wave_speed,
-                                             p.bulk_linear, p.bulk_quadratic);
+        sum.dt_element = mat.model == kHjc
+                             ? one_point_stable_dt(b2, sqrt_b2, len, sum.div_rate, sum.wave_speed,
+                                                   p.bulk_linear, p.bulk_quadratic)
+                             : one_point_stable_dt(b2, sqrt_b2, len, sum.div_rate, mat.p_wave_speed,
+                                                   p.bulk_linear, p.bulk_quadratic);
       }
     }
     if constexpr (QP == 4)
-      sum.dt_element = full_integration_stable_dt(
-          x, y, sqrt_(sum.area), sum.div_rate, mat.p_wave_speed, p.bulk_linear, p.bulk_quadratic);
+      sum.dt_element =
+          mat.model == kHjc
+              ? full_integration_stable_dt(x, y, sqrt_(sum.area), sum.div_rate, sum.wave_speed,
+                                           p.bulk_linear, p.bulk_quadratic)
+              : full_integration_stable_dt(x, y, sqrt_(sum.area), sum.div_rate, mat.p_wave_speed,
+                                           p.bulk_linear, p.bulk_quadratic);
     // Distortion (ConversionCriterion): the element's characteristic length against its
     // reference one, so that no adaptive element drives the step down by its shape.
     if (conversion_pending.data() != nullptr && mat.conversion_length_ratio > 0.0 &&
@@ -371,7 +387,8 @@ struct FeForces {
       const RateLaw& rate = tension_rates(elements.material(lanes.e[0]));
       if (rate.active()) factor = tension_factor_of(rate, lanes, g, bx, by);
     }
-    const auto full_update = update_point_stress(mat, l, volume, volume_old, s, epeq, sum, factor);
+    const auto full_update =
+        update_point_stress(mat, l, volume, volume_old, s, epeq, sum, factor, q);
     if (conversion_pending.data() != nullptr) flag_conversion(mat, s, epeq, factor, sum.convert);
 
     // Artificial bulk viscosity in compression (linear + quadratic, as LS-DYNA/Abaqus):
@@ -410,12 +427,13 @@ struct FeForces {
   // Every lane takes the elastic trial, and the lanes that may_leave_elastic marks (yielding, or
   // near the conversion stresses) redo the whole update_stress one at a time, since return
   // mappings iterate.
-  template <class T>
+  // q: the lanes' point indices, for the state of laws that have one (Elements::law_state).
+  template <class T, int L>
   KOKKOS_FORCEINLINE_FUNCTION auto update_point_stress(const MaterialLaw& mat, const T (&l)[4],
                                                        const T& volume, const T& volume_old,
                                                        T (&s)[4], T& epeq, ElementSums<T>& sum,
-                                                       const T& factor) const {
-    constexpr int L = LaneCount<T>::value;
+                                                       const T& factor, const int (&q)[L]) const {
+    static_assert(L == LaneCount<T>::value, "one point index per lane");
     T rot_c, rot_s;  // the half-step rotation, used twice
     cayley_rotation<T>(0.25 * (l[1] - l[2]) * p.dt, rot_c, rot_s);
     rotate_stress(s, rot_c, rot_s);
@@ -434,10 +452,14 @@ struct FeForces {
         // A raised cut-off only widens the elastic range, so the static law's may_leave_elastic
         // above still marks every lane that may leave it.
         const double f = get_lane(factor, k);
-        const double work =
-            (f != 1.0 ? fracta::update_stress(detail::with_tension_factor(mat, f), dl, sl, ep)
-                      : fracta::update_stress(mat, dl, sl, ep)) *
-            get_lane(volume, k);
+        double work = 0.0;
+        if (mat.model == kHjc) {
+          work = law_point_update(mat, l, k, q[k], dl, sl, ep, sum.wave_speed);
+        } else {
+          work = f != 1.0 ? fracta::update_stress(detail::with_tension_factor(mat, f), dl, sl, ep)
+                          : fracta::update_stress(mat, dl, sl, ep);
+        }
+        work *= get_lane(volume, k);
         set_lane(plastic, k, get_lane(plastic, k) + work);
         set_lane(epeq, k, ep);
         for (int c = 0; c < 4; ++c) set_lane(s[c], k, sl[c]);
@@ -453,6 +475,28 @@ struct FeForces {
                        0.5 * (volume_old + volume);
     rotate_stress(s, rot_c, rot_s);
     return full_update;
+  }
+
+  // Lane k of a law with a state (update_stress_with_state: hjc) at point q: its state read and
+  // written back, its equivalent strain rate sqrt(2/3 d':d') from the velocity gradient l, and
+  // the lane's wave speed raised to the point's (hjc_wave_speed) for the stable step. Returns
+  // the dissipation density (J/m^3).
+  template <class T>
+  KOKKOS_FORCEINLINE_FUNCTION double law_point_update(const MaterialLaw& mat, const T (&l)[4],
+                                                      const int k, const int q,
+                                                      const double (&deps)[3], double (&s)[4],
+                                                      double& epeq, T& wave_speed) const {
+    const double lxx = get_lane(l[0], k), lyy = get_lane(l[3], k);
+    const double dxy = 0.5 * (get_lane(l[1], k) + get_lane(l[2], k));
+    const double mean = (lxx + lyy) / 3.0;  // d_zz = 0: plane strain
+    const double d0 = lxx - mean, d1 = lyy - mean, d2 = -mean;
+    const double rate = sqrt_(2.0 / 3.0 * (d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * dxy * dxy));
+    double state[kLawStateSize];
+    for (int c = 0; c < kLawStateSize; ++c) state[c] = elements.law_state(q, c);
+    const double work = update_stress_with_state(mat, deps, s, epeq, state, rate);
+    for (int c = 0; c < kLawStateSize; ++c) elements.law_state(q, c) = state[c];
+    set_lane(wave_speed, k, max_(get_lane(wave_speed, k), hjc_wave_speed(mat, state)));
+    return work;
   }
 
   // ConversionCriterion on the values in hand, without its square root: the largest principal
@@ -664,6 +708,7 @@ inline Elements fe_element_views(const Elements& elements) {
   k.recoverable_work = elements.recoverable_work;
   k.reference_gradient_norm2 = elements.reference_gradient_norm2;
   k.tension_factor = elements.tension_factor;
+  k.law_state = elements.law_state;
   k.scatter = elements.scatter;
   return k;
 }

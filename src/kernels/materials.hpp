@@ -7,11 +7,12 @@
 // whatever keeps it so.
 #pragma once
 #include "kernels/compat.hpp"
+#include "kernels/hjc_params.hpp"
 #include "kernels/simd.hpp"
 
 namespace fracta {
 
-enum MaterialModelId : int { kElastic = 0, kBilinearJ2 = 1, kMohrCoulomb = 2 };
+enum MaterialModelId : int { kElastic = 0, kBilinearJ2 = 1, kMohrCoulomb = 2, kHjc = 3 };
 
 // Plain data copied by value into kernels (one per material).
 struct MaterialLaw {
@@ -38,8 +39,11 @@ struct MaterialLaw {
   double cone_alpha = 0;    // drucker_prager_constants
   double cone_k = 0;        // Pa
   double tension_cap = -1;  // Pa, effective_tension_cap (negative: none)
+  HjcParams hjc;            // model kHjc
 
   // P-wave modulus of the formulation: plane strain lambda + 2G, plane stress E / (1 - nu^2).
+  // hjc (plane strain only): its elastic moduli, K = p_crush / mu_crush; compacted points are
+  // stiffer (hjc_wave_speed).
   KOKKOS_INLINE_FUNCTION double p_wave_modulus() const {
     return plane_strain ? lame_lambda + 2.0 * shear_modulus
                         : youngs_modulus / (1.0 - poisson_ratio * poisson_ratio);
@@ -467,7 +471,164 @@ KOKKOS_INLINE_FUNCTION double mohr_coulomb_update(const MaterialLaw& m, const do
   return mohr_coulomb_return_3d(m, s, epeq);
 }
 
+// ---------------------------------------------------------------------------------------------
+// hjc: Holmquist-Johnson-Cook concrete (HjcParams). Plane strain, on the 3D stress
+// {xx, yy, zz, xy}: the pressure comes from the equation of state of the volumetric strain
+// mu = rho / rho0 - 1, the deviator from a radial return onto the pressure-, damage- and
+// rate-dependent strength. State per point: HjcState.
+// ---------------------------------------------------------------------------------------------
+
+// The equation of state on its envelope at the largest compaction mu_max (HJC 1993, Fig. 2):
+// elastic to (mu_crush, p_crush) with K_e = p_crush / mu_crush; crushing (air voids closing)
+// linear to (mu_lock, p_lock), unloading along K_u = (1 - F) K_e + F K1 with
+// F = (mu_max - mu_crush) / (mu_lock - mu_crush), so that a crushed point keeps the plastic
+// volumetric strain mu_max - p_max / K_u. Gives the envelope pressure p_max and K_u at
+// min(mu_max, mu_lock).
+KOKKOS_INLINE_FUNCTION void hjc_envelope(const HjcParams& h, double mu_max, double& p_max,
+                                         double& k_unload) {
+  const double k_elastic = h.p_crush / h.mu_crush;
+  if (mu_max <= h.mu_crush) {
+    p_max = k_elastic * max_(mu_max, 0.0);
+    k_unload = k_elastic;
+    return;
+  }
+  const double f = min_((mu_max - h.mu_crush) / (h.mu_lock - h.mu_crush), 1.0);
+  p_max = h.p_crush + (h.p_lock - h.p_crush) * f;
+  k_unload = (1.0 - f) * k_elastic + f * h.k1;
+}
+
+// Fully dense material beyond mu_lock: P = p_lock + K1 mb + K2 mb^2 + K3 mb^3 with
+// mb = (mu - mu_lock) / (1 + mu_lock), loading and unloading alike. The 1993 paper writes
+// K1 mb + ... with mb from a separate locking strain (rho_grain / rho0 - 1), which meets the
+// crush line at p_lock only for one value of it; measuring mb from mu_lock and adding p_lock
+// makes the curve continuous for any constants (as LS-DYNA's *MAT_111 documentation draws it).
+KOKKOS_INLINE_FUNCTION double hjc_dense_pressure(const HjcParams& h, double mu) {
+  const double mb = (mu - h.mu_lock) / (1.0 + h.mu_lock);
+  return h.p_lock + mb * (h.k1 + mb * (h.k2 + mb * h.k3));
+}
+
+// Pressure (Pa, compression positive) at volumetric strain mu after the largest compaction
+// mu_max, before the tension limit.
+KOKKOS_INLINE_FUNCTION double hjc_pressure(const HjcParams& h, double mu, double mu_max) {
+  if (mu_max > h.mu_lock && mu >= h.mu_lock) return hjc_dense_pressure(h, mu);
+  const double mu_env = min_(mu_max, h.mu_lock);
+  double p_max, k_unload;
+  hjc_envelope(h, mu_env, p_max, k_unload);
+  return p_max - k_unload * (mu_env - mu);
+}
+
+// Plastic volumetric strain after the largest compaction mu_max (mu at zero pressure on its
+// unloading line), the mu_p of the damage sum.
+KOKKOS_INLINE_FUNCTION double hjc_plastic_volumetric_strain(const HjcParams& h, double mu_max) {
+  const double mu_env = min_(mu_max, h.mu_lock);
+  double p_max, k_unload;
+  hjc_envelope(h, mu_env, p_max, k_unload);
+  return max_(mu_env - p_max / k_unload, 0.0);
+}
+
+// Normalised strength (HJC 1993, Eq. 1): sigma* = [A (1 - D) + B P*^N] [1 + C ln(eps_dot*)]
+// <= S_max, with P* = P / f'_c, eps_dot* = eps_dot / eps0 (no rate term below eps0: the
+// constants are fitted at and above it). The paper gives the cohesive part only for P* >= 0; at
+// negative pressures it falls linearly to 0 at the damaged tension limit -T (1 - D), where the
+// material can hold no stress at all (as EPIC and LS-DYNA do). Returns sigma* f'_c (Pa).
+KOKKOS_INLINE_FUNCTION double hjc_strength(const HjcParams& h, double p, double damage,
+                                           double strain_rate) {
+  const double p_star = p / h.fc, intact = 1.0 - damage;
+  double s = 0.0;
+  if (p_star >= 0.0) {
+    s = h.a * intact + h.b * pow_(p_star, h.n);
+  } else {
+    const double tension_limit = h.t / h.fc * intact;
+    s = tension_limit > 0.0 ? h.a * intact * max_(1.0 + p_star / tension_limit, 0.0) : 0.0;
+  }
+  if (strain_rate > h.eps0) s *= 1.0 + h.c * log_(strain_rate / h.eps0);
+  return h.fc * min_(s, h.s_max);
+}
+
+// Plastic strain to fracture (HJC 1993, Eq. 3): eps_p^f + mu_p^f = D1 (P* + T*)^D2 >= EF_min.
+KOKKOS_INLINE_FUNCTION double hjc_fracture_strain(const HjcParams& h, double p) {
+  const double x = (p + h.t) / h.fc;
+  return max_(x > 0.0 ? h.d1 * pow_(x, h.d2) : 0.0, h.ef_min);
+}
+
+// Bulk modulus the point unloads or reloads with now (Pa): K_u of its envelope, or the dense
+// curve's slope, at least K1, beyond mu_lock. Sets the point's wave speed (hjc_wave_speed).
+KOKKOS_INLINE_FUNCTION double hjc_tangent_bulk_modulus(const HjcParams& h, double mu,
+                                                       double mu_max) {
+  if (mu_max > h.mu_lock && mu >= h.mu_lock) {
+    const double mb = (mu - h.mu_lock) / (1.0 + h.mu_lock);
+    return max_(h.k1, (h.k1 + mb * (2.0 * h.k2 + 3.0 * mb * h.k3)) / (1.0 + h.mu_lock));
+  }
+  double p_max, k_unload;
+  hjc_envelope(h, min_(mu_max, h.mu_lock), p_max, k_unload);
+  return k_unload;
+}
+
+// One hjc update (HJC 1993; the integration is ours): the volumetric strain moves by the
+// increment's trace (1 + mu) <- (1 + mu) exp(-tr deps); the pressure follows the equation of
+// state, limited in tension to -T (1 - D); the deviator takes the elastic trial 2G deps_dev and
+// returns radially onto the strength at the new pressure with the damage of the step's start
+// (d eps_p = (q_trial - sigma_y) / 3G, as J2 flow); then the damage grows by
+// (d eps_p + d mu_p) / (D1 (P* + T*)^D2), at most to 1. state: HjcState. strain_rate: the
+// equivalent strain rate sqrt(2/3 d':d') (1/s). deps_zz: the out-of-plane increment (0 in plane
+// strain). Returns the dissipation density (J/m^3): sigma_y d eps_p of the deviator and
+// P d mu_p / (1 + mu) of the crushing.
+KOKKOS_INLINE_FUNCTION double hjc_update(const MaterialLaw& m, const double deps[3], double deps_zz,
+                                         double s[4], double& epeq, double state[3],
+                                         double strain_rate) {
+  const HjcParams& h = m.hjc;
+  const double G = m.shear_modulus;
+  double damage = state[0];
+  const double mu_max_old = state[2];
+  const double tr = deps[0] + deps[1] + deps_zz;
+  const double mu = (1.0 + state[1]) * exp_(-tr) - 1.0;
+  const double mu_max = max_(mu_max_old, mu);
+  double p = hjc_pressure(h, mu, mu_max);
+  const double tension_limit = h.t * (1.0 - damage);
+  p = max_(p, -tension_limit);
+  // Deviatoric trial and radial return.
+  const double p_old = -(s[0] + s[1] + s[2]) / 3.0;
+  const double e_mean = tr / 3.0;
+  double d[4] = {s[0] + p_old + 2.0 * G * (deps[0] - e_mean),
+                 s[1] + p_old + 2.0 * G * (deps[1] - e_mean),
+                 s[2] + p_old + 2.0 * G * (deps_zz - e_mean), s[3] + 2.0 * G * deps[2]};
+  const double q = sqrt_(1.5 * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + 2.0 * d[3] * d[3]));
+  const double yield = hjc_strength(h, p, damage, strain_rate);
+  double dep = 0.0, work = 0.0;
+  if (q > yield) {
+    dep = (q - yield) / (3.0 * G);
+    const double f = q > 0.0 ? yield / q : 0.0;
+    for (int k = 0; k < 4; ++k) d[k] *= f;
+    work += yield * dep;
+  }
+  const double dmu_p =
+      hjc_plastic_volumetric_strain(h, mu_max) - hjc_plastic_volumetric_strain(h, mu_max_old);
+  work += max_(p, 0.0) * dmu_p / (1.0 + mu);
+  damage = min_(damage + (dep + dmu_p) / hjc_fracture_strain(h, p), 1.0);
+  s[0] = d[0] - p;
+  s[1] = d[1] - p;
+  s[2] = d[2] - p;
+  s[3] = d[3];
+  epeq += dep;
+  state[0] = damage;
+  state[1] = mu;
+  state[2] = mu_max;
+  return work;
+}
+
 }  // namespace detail
+
+// State per point of an hjc material (Elements::law_state): damage D in [0, 1], volumetric
+// strain mu = rho / rho0 - 1, and the largest mu reached (the equation of state's memory).
+enum HjcState : int { kHjcDamage = 0, kHjcMu = 1, kHjcMuMax = 2, kLawStateSize = 3 };
+
+// P-wave speed (m/s) of an hjc point in its state now: its tangent bulk modulus
+// (detail::hjc_tangent_bulk_modulus) + 4G/3 over rho0. A compacted point unloads up to K1 /
+// K_e times stiffer than the intact one, which the element's stable step must follow.
+KOKKOS_INLINE_FUNCTION double hjc_wave_speed(const MaterialLaw& m, const double state[3]) {
+  const double k = detail::hjc_tangent_bulk_modulus(m.hjc, state[kHjcMu], state[kHjcMuMax]);
+  return sqrt_((k + 4.0 / 3.0 * m.shear_modulus) / m.density);
+}
 
 // Fills the cached derived values of a law (host, once, after its parameters are set).
 inline void cache_derived(MaterialLaw& m) {
@@ -489,12 +650,14 @@ inline void cache_derived(MaterialLaw& m) {
 //   bilinear_j2: trial von Mises stress q > R = yield + H epeq (3 J2 = q^2 in plane strain; in
 //     plane stress, with s_zz = 0, 3 J2 is the q2 of j2_plane_stress_return);
 //   mohr_coulomb, plane strain: trial outside the cone (sqrt J2 > k - alpha I1) or a principal
-//     stress above the cap; plane stress (an eps_zz iteration) and uncached laws: always true.
+//     stress above the cap; plane stress (an eps_zz iteration) and uncached laws: always true;
+//   hjc: always true (update_stress_with_state).
 template <class T>
 KOKKOS_INLINE_FUNCTION auto may_leave_elastic(const MaterialLaw& m, const T s_trial[4],
                                               const T& epeq) {
   constexpr double margin = 1.0 - 1e-9;
   if (m.model == kElastic) return !all_lanes<T>();
+  if (m.model == kHjc) return all_lanes<T>();  // its pressure is not the elastic trial's
   if (m.model == kMohrCoulomb && (!m.cone_cached || !m.plane_strain)) return all_lanes<T>();
   const T p = (s_trial[0] + s_trial[1] + s_trial[2]) / 3.0;
   const T d0 = s_trial[0] - p, d1 = s_trial[1] - p, d2 = s_trial[2] - p;
@@ -529,6 +692,16 @@ KOKKOS_INLINE_FUNCTION double update_stress(const MaterialLaw& m, const double d
       elastic_increment(m, deps, s);
       return 0.0;
   }
+}
+
+// update_stress for laws with a state beyond the stress and epeq (kLawStateSize values per
+// point, Elements::law_state) and a strain-rate term: hjc; the others ignore both.
+// strain_rate: the point's equivalent strain rate sqrt(2/3 d':d') (1/s).
+KOKKOS_INLINE_FUNCTION double update_stress_with_state(const MaterialLaw& m, const double deps[3],
+                                                       double s[4], double& epeq, double state[3],
+                                                       double strain_rate) {
+  if (m.model == kHjc) return detail::hjc_update(m, deps, 0.0, s, epeq, state, strain_rate);
+  return update_stress(m, deps, s, epeq);
 }
 
 }  // namespace fracta

@@ -24,13 +24,14 @@ KOKKOS_INLINE_FUNCTION T combined_stable_dt(const T& fe_bound, const T& lattice_
 // ---------------------------------------------------------------------------------------------
 // Elements (docs/physics.md 1.4, "Elements"): dt_e = l_e / (Q + sqrt(Q^2 + c^2)), with c the
 // P-wave speed, l_e = 1 / sqrt(sum_a |b_a|^2) and the bulk-viscosity correction Q of a compressed
-// element (as LS-DYNA). T: double, or one element per lane (simd.hpp).
+// element (as LS-DYNA). T: double, or one element per lane (simd.hpp); C, the type of c: double,
+// or T where the speed differs by lane (laws whose stiffness follows their state: hjc).
 // ---------------------------------------------------------------------------------------------
 
 // Q = C1 c + C2 l |div v| while the element compresses (div_rate < 0: the smallest velocity
 // divergence of its points this step), else 0; l the bulk-viscosity length (m).
-template <class T>
-KOKKOS_INLINE_FUNCTION T bulk_viscosity_speed(const T& length, const T& div_rate, double c,
+template <class T, class C>
+KOKKOS_INLINE_FUNCTION T bulk_viscosity_speed(const T& length, const T& div_rate, const C& c,
                                               double bulk_linear, double bulk_quadratic) {
   return div_rate < 0.0 ? bulk_quadratic * length * (-div_rate) + bulk_linear * c : splat<T>(0.0);
 }
@@ -40,9 +41,9 @@ KOKKOS_INLINE_FUNCTION T bulk_viscosity_speed(const T& length, const T& div_rate
 // h), 1 / (sqrt(sum b.b) (Q + sqrt(Q^2 + c^2))) with the bulk viscosity. b2 = sum b.b and
 // sqrt_b2 its root (the hourglass control has it); length: the bulk-viscosity length, the root
 // of the element's area. 0 for a degenerate element (b2 not positive).
-template <class T>
+template <class T, class C>
 KOKKOS_INLINE_FUNCTION T one_point_stable_dt(const T& b2, const T& sqrt_b2, const T& length,
-                                             const T& div_rate, double c, double bulk_linear,
+                                             const T& div_rate, const C& c, double bulk_linear,
                                              double bulk_quadratic) {
   const T qs = bulk_viscosity_speed(length, div_rate, c, bulk_linear, bulk_quadratic);
   return !(b2 > 0.0) ? splat<T>(0.0)
@@ -56,9 +57,9 @@ KOKKOS_INLINE_FUNCTION T one_point_stable_dt(const T& b2, const T& sqrt_b2, cons
 // (x, y) counter-clockwise; length: the bulk-viscosity length, the root of the sum of the points'
 // weights. 0 for an inverted element.
 inline constexpr double kFullIntegrationDtFactor = 0.9;
-template <class T>
+template <class T, class C>
 KOKKOS_INLINE_FUNCTION T full_integration_stable_dt(const T (&x)[4], const T (&y)[4],
-                                                    const T& length, const T& div_rate, double c,
+                                                    const T& length, const T& div_rate, const C& c,
                                                     double bulk_linear, double bulk_quadratic) {
   const T A = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
   T b2 = splat<T>(0.0);

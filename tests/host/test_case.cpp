@@ -209,6 +209,22 @@ TEST(CaseParse, CutsAsArrayOfInlineTables) {
   EXPECT_EQ(c.bodies[0].cuts[1].type, Shape::Type::rectangle);
 }
 
+// The 48 MPa concrete of Holmquist, Johnson & Cook (1993): its constants reach the law, and the
+// elastic constants follow from G and K = p_crush / mu_crush.
+TEST(CaseParse, HjcConcreteTakesThePapersSymbols) {
+  const Case c = load_case(kData + "../../cases/validation/hjc_confined_compression.toml");
+  const Material& m = c.materials[0];
+  ASSERT_EQ(m.model, MaterialModel::hjc);
+  EXPECT_DOUBLE_EQ(m.hjc.fc, 48e6);
+  EXPECT_DOUBLE_EQ(m.hjc.t, 4e6);
+  EXPECT_DOUBLE_EQ(m.hjc.n, 0.61);
+  EXPECT_DOUBLE_EQ(m.hjc.k2, -171e9);
+  EXPECT_DOUBLE_EQ(m.hjc.eps0, 1.0);
+  const double K = 16e6 / 0.001, G = 14.86e9;
+  EXPECT_NEAR(m.youngs_modulus, 9 * K * G / (3 * K + G), 1e-6 * G);
+  EXPECT_NEAR(m.youngs_modulus / (2 * (1 + m.poisson_ratio)), G, 1e-6 * G);
+}
+
 TEST(CaseParse, ToString) {
   EXPECT_STREQ(to_string(Formulation::plane_stress), "plane_stress");
   EXPECT_STREQ(to_string(MaterialModel::mohr_coulomb), "mohr_coulomb");
@@ -295,6 +311,9 @@ const BadCase kBadCases[] = {
     {"velocity_gradient_rigid.toml", 18, "body['ball'].initial_velocity_gradient", "rigid body"},
     {"velocity_gradient_one_row.toml", 17, "body['plate'].initial_velocity_gradient", "2 rows"},
     {"node_perturbation_large.toml", 17, "body['pane'].node_perturbation", "must be <= 0.25"},
+    {"hjc_plane_stress.toml", 9, "material['concrete'].model", "needs simulation.formulation"},
+    {"hjc_soft_lock.toml", 12, "material['concrete'].hjc.K1",
+     "must be at least the slope of the crush line"},
 };
 
 INSTANTIATE_TEST_SUITE_P(CaseFiles, CaseBadFile, ::testing::ValuesIn(kBadCases),

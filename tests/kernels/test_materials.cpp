@@ -816,3 +816,200 @@ TEST(MaterialDevice, ParallelForMatchesHostLoop) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// hjc: Holmquist-Johnson-Cook concrete, the 48 MPa concrete of Holmquist, Johnson & Cook (1993)
+// as used for Hanchak's perforation tests. Every expected value below is the model's closed
+// form (its Eqs. 1-3 and the equation of state), evaluated here independently of the law's code.
+// ---------------------------------------------------------------------------------------------
+
+struct HjcPoint {
+  MaterialLaw m;
+  double s[4] = {0, 0, 0, 0};
+  double epeq = 0;
+  double state[3] = {0, 0, 0};
+  // One increment: in-plane strains exx, eyy, exy (tensor), out-of-plane ezz; rate in 1/s.
+  double step(double exx, double eyy, double exy, double ezz, double rate = 0.0) {
+    const double d[3] = {exx, eyy, exy};
+    return fracta::detail::hjc_update(m, d, ezz, s, epeq, state, rate);
+  }
+  double pressure() const { return -(s[0] + s[1] + s[2]) / 3.0; }
+};
+
+constexpr double kFc = 48e6, kT = 4e6, kA = 0.79, kB = 1.60, kN = 0.61, kC = 0.007;
+constexpr double kPc = 16e6, kMuc = 0.001, kPl = 0.8e9, kMul = 0.10, kK1 = 85e9;
+constexpr double kK2 = -171e9, kK3 = 208e9, kD1 = 0.04, kEfMin = 0.01, kG = 14.86e9;
+
+MaterialLaw hjc_concrete() {
+  const double K = kPc / kMuc;
+  MaterialLaw m = fracta::make_material_law(fracta::kHjc, true, 2440.0, 9 * K * kG / (3 * K + kG),
+                                            (3 * K - 2 * kG) / (2 * (3 * K + kG)));
+  fracta::HjcParams& h = m.hjc;
+  h.a = kA, h.b = kB, h.n = kN, h.c = kC, h.fc = kFc, h.s_max = 7.0, h.t = kT, h.eps0 = 1.0;
+  h.d1 = kD1, h.d2 = 1.0, h.ef_min = kEfMin;
+  h.p_crush = kPc, h.mu_crush = kMuc, h.p_lock = kPl, h.mu_lock = kMul;
+  h.k1 = kK1, h.k2 = kK2, h.k3 = kK3;
+  m.tensile_strength = kT;
+  fracta::cache_derived(m);
+  return m;
+}
+
+// Volumetric strain increment (each of the three normal components tr/3) that takes mu from
+// mu_from to mu_to: (1 + mu) = (1 + mu_from) exp(-tr).
+double trace_to(double mu_from, double mu_to) {
+  return -std::log((1.0 + mu_to) / (1.0 + mu_from));
+}
+
+void compress_to(HjcPoint& pt, double mu_to, int steps) {
+  const double tr = trace_to(pt.state[fracta::kHjcMu], mu_to) / steps;
+  for (int i = 0; i < steps; ++i) pt.step(tr / 3, tr / 3, 0.0, tr / 3);
+}
+
+TEST(MaterialHjc, EquationOfStateLoadsCrushesUnloadsAndLocks) {
+  HjcPoint pt{hjc_concrete()};
+  const double Ke = kPc / kMuc;
+  // Elastic: P = K_e mu.
+  compress_to(pt, 0.0006, 10);
+  EXPECT_NEAR(pt.pressure(), Ke * 0.0006, 1e-9 * kPc);
+  // Crushing: linear from (mu_c, p_c) to (mu_l, p_l).
+  const double mu_max = 0.05;
+  compress_to(pt, mu_max, 50);
+  const double F = (mu_max - kMuc) / (kMul - kMuc);
+  const double p_max = kPc + (kPl - kPc) * F;
+  EXPECT_NEAR(pt.pressure(), p_max, 1e-9 * kPl);
+  // Unloading along K_u = (1 - F) K_e + F K1, and reloading along it up to the envelope.
+  const double Ku = (1 - F) * Ke + F * kK1;
+  compress_to(pt, 0.045, 5);
+  EXPECT_NEAR(pt.pressure(), p_max - Ku * (mu_max - 0.045), 1e-9 * kPl);
+  compress_to(pt, mu_max, 5);
+  EXPECT_NEAR(pt.pressure(), p_max, 1e-9 * kPl);
+  // Fully dense: P = p_l + K1 mb + K2 mb^2 + K3 mb^3, mb = (mu - mu_l) / (1 + mu_l).
+  compress_to(pt, 0.2, 100);
+  const double mb = (0.2 - kMul) / (1 + kMul);
+  EXPECT_NEAR(pt.pressure(), kPl + kK1 * mb + kK2 * mb * mb + kK3 * mb * mb * mb, 1e-9 * kPl);
+  // No deviator on a hydrostatic path.
+  EXPECT_NEAR(pt.s[0], pt.s[2], 1e-12 * kPl);
+  EXPECT_EQ(pt.epeq, 0.0);
+}
+
+TEST(MaterialHjc, HydrostaticTensionStopsAtT) {
+  HjcPoint pt{hjc_concrete()};
+  const double Ke = kPc / kMuc;
+  compress_to(pt, -0.5 * kT / Ke, 4);
+  EXPECT_NEAR(pt.pressure(), -0.5 * kT, 1e-9 * kT);
+  compress_to(pt, -3.0 * kT / Ke, 4);
+  EXPECT_NEAR(pt.pressure(), -kT, 1e-9 * kT);
+  // No crushing and no plastic strain beyond the round-off of a hydrostatic path (at the limit
+  // the strength is 0, so a round-off deviator yields).
+  EXPECT_LT(pt.state[fracta::kHjcDamage], 1e-12);
+}
+
+// Pure shear at the pressure of an elastic compression mu0 (below mu_crush): the trace is 0, so
+// the pressure stays K_e mu0 (exactly: the shear increments have no trace).
+struct ShearAtPressure {
+  HjcPoint pt{hjc_concrete()};
+  double p;
+  explicit ShearAtPressure(double mu0) {
+    compress_to(pt, mu0, 1);
+    p = pt.pressure();
+  }
+};
+
+TEST(MaterialHjc, ShearYieldsAtTheNormalisedStrengthAndDamageSoftensIt) {
+  ShearAtPressure sp(0.0008);  // P = 12.8 MPa, P* = 0.267
+  HjcPoint& pt = sp.pt;
+  const double p_star = sp.p / kFc;
+  const double ef = std::max(kD1 * (p_star + kT / kFc), kEfMin);  // D1 (P* + T*)^D2, D2 = 1
+  const double intact = kFc * (kA + kB * std::pow(p_star, kN));
+  int plastic_steps = 0;
+  for (int i = 0; i < 1200; ++i) {
+    const double d_old = pt.state[fracta::kHjcDamage], ep_old = pt.epeq;
+    pt.step(2e-5, -2e-5, 0.0, 0.0);
+    EXPECT_NEAR(pt.pressure(), sp.p, 1e-9 * kFc);
+    if (pt.epeq == ep_old) continue;
+    ++plastic_steps;
+    // On the strength of the step's start damage (Eq. 1) ...
+    const double yield = kFc * (kA * (1 - d_old) + kB * std::pow(p_star, kN));
+    EXPECT_NEAR(von_mises(pt.s), yield, 1e-9 * kFc) << "step " << i;
+    // ... and the damage grows by d eps_p / (D1 (P* + T*)^D2) (Eq. 2-3), to at most 1.
+    EXPECT_NEAR(pt.state[fracta::kHjcDamage], std::min(d_old + (pt.epeq - ep_old) / ef, 1.0),
+                1e-12);
+  }
+  EXPECT_GT(plastic_steps, 100);
+  // Fully damaged: only the pressure term is left (Eq. 1 with D = 1).
+  EXPECT_EQ(pt.state[fracta::kHjcDamage], 1.0);
+  EXPECT_NEAR(von_mises(pt.s), kFc * kB * std::pow(p_star, kN), 1e-9 * kFc);
+  EXPECT_LT(von_mises(pt.s), 0.6 * intact);
+}
+
+TEST(MaterialHjc, StrainRateRaisesTheStrengthByOnePlusCLnRate) {
+  for (const double rate : {0.5, 1.0, 10.0, 1000.0}) {
+    ShearAtPressure sp(0.0005);
+    HjcPoint& pt = sp.pt;
+    double q = 0.0;
+    for (int i = 0; i < 200 && pt.epeq == 0.0; ++i) {
+      pt.step(2e-5, -2e-5, 0.0, 0.0, rate);
+      q = von_mises(pt.s);
+    }
+    ASSERT_GT(pt.epeq, 0.0);
+    const double factor = rate > 1.0 ? 1.0 + kC * std::log(rate) : 1.0;  // eps0 = 1/s
+    EXPECT_NEAR(q, kFc * (kA + kB * std::pow(sp.p / kFc, kN)) * factor, 1e-9 * kFc) << rate;
+  }
+}
+
+TEST(MaterialHjc, StrengthIsCappedAtSmax) {
+  // P = 0.7 GPa on the crush line: B P*^N = 11.4 > S_max = 7. Crushing damages the point
+  // (mu_p / EF), which the cap does not see as long as the pressure term alone exceeds it.
+  HjcPoint pt{hjc_concrete()};
+  const double mu = kMuc + (0.7e9 - kPc) / (kPl - kPc) * (kMul - kMuc);
+  compress_to(pt, mu, 200);
+  ASSERT_NEAR(pt.pressure(), 0.7e9, 1e-6 * kPl);
+  for (int i = 0; i < 400 && pt.epeq == 0.0; ++i) pt.step(5e-5, -5e-5, 0.0, 0.0);
+  ASSERT_GT(pt.epeq, 0.0);
+  EXPECT_NEAR(von_mises(pt.s), 7.0 * kFc, 1e-9 * kFc);
+}
+
+TEST(MaterialHjc, StrengthFallsLinearlyToZeroAtTheTensionLimit) {
+  // Hydrostatic tension to P = -T/2, then shear: the strength is A f'c (1 + P*/T*) = A f'c / 2.
+  HjcPoint pt{hjc_concrete()};
+  compress_to(pt, -0.5 * kT / (kPc / kMuc), 1);
+  for (int i = 0; i < 1000 && pt.epeq == 0.0; ++i) pt.step(1e-6, -1e-6, 0.0, 0.0);
+  ASSERT_GT(pt.epeq, 0.0);
+  EXPECT_NEAR(von_mises(pt.s), 0.5 * kA * kFc, 1e-9 * kFc);
+}
+
+TEST(MaterialHjc, CrushingDamagesByThePlasticVolumetricStrain) {
+  // Hydrostatic crushing from mu_c to mu: mu_p = mu - p_max / K_u (the unloading line's zero),
+  // and D = integral of d mu_p / EF(P) with EF = D1 (P* + T*) here (above EF_min): the sum of
+  // the law's increments against a fine midpoint quadrature of the same integral.
+  HjcPoint pt{hjc_concrete()};
+  const double Ke = kPc / kMuc;
+  const int steps = 20000;
+  compress_to(pt, kMuc, 1);
+  compress_to(pt, 0.03, steps);
+  auto mu_p = [&](double mu) {
+    const double F = (mu - kMuc) / (kMul - kMuc);
+    return mu - (kPc + (kPl - kPc) * F) / ((1 - F) * Ke + F * kK1);
+  };
+  double damage = 0.0;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    const double a = kMuc + (0.03 - kMuc) * i / n, b = kMuc + (0.03 - kMuc) * (i + 1) / n;
+    const double p = kPc + (kPl - kPc) * (0.5 * (a + b) - kMuc) / (kMul - kMuc);
+    damage += (mu_p(b) - mu_p(a)) / std::max(kD1 * (p + kT) / kFc, kEfMin);
+  }
+  ASSERT_GT(damage, 0.01);
+  // The law uses each step's end pressure: first order in the step, about 1e-4 of D here.
+  EXPECT_NEAR(pt.state[fracta::kHjcDamage], damage, 1e-3 * damage);
+}
+
+TEST(MaterialHjc, WaveSpeedFollowsTheUnloadingModulus) {
+  HjcPoint pt{hjc_concrete()};
+  const double Ke = kPc / kMuc, rho = 2440.0;
+  EXPECT_NEAR(fracta::hjc_wave_speed(pt.m, pt.state), std::sqrt((Ke + 4.0 / 3.0 * kG) / rho), 1e-9);
+  EXPECT_NEAR(pt.m.p_wave_speed, std::sqrt((Ke + 4.0 / 3.0 * kG) / rho), 1e-6);
+  compress_to(pt, 0.05, 20);
+  const double F = (0.05 - kMuc) / (kMul - kMuc);
+  EXPECT_NEAR(fracta::hjc_wave_speed(pt.m, pt.state),
+              std::sqrt(((1 - F) * Ke + F * kK1 + 4.0 / 3.0 * kG) / rho), 1e-9);
+}
