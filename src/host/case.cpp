@@ -652,7 +652,8 @@ const std::map<MaterialModel, KeyList> kMaterialModelKeys = {
      {"youngs_modulus", "poisson_ratio", "yield_stress", "plastic_modulus", "tangent_modulus"}},
     {MaterialModel::mohr_coulomb,
      {"youngs_modulus", "poisson_ratio", "cohesion", "friction_angle", "fracture_energy"}},
-    {MaterialModel::hjc, {"shear_modulus", "compressive_strength", "hjc", "fracture_energy"}}};
+    {MaterialModel::hjc,
+     {"shear_modulus", "compressive_strength", "hjc", "fracture_energy", "conversion_damage"}}};
 
 // [[material]] model = "hjc": shear_modulus, compressive_strength (f'_c) and the table
 // hjc = { A, B, N, C, S_max, reference_strain_rate, D1, D2, EF_min, p_crush, mu_crush, p_lock,
@@ -780,7 +781,11 @@ Material read_material(const Reader& r, Names& names, Formulation formulation) {
     m.youngs_modulus = r.number("youngs_modulus", Range::gt(0));
     m.poisson_ratio = r.number("poisson_ratio", Range::gt(-1).lt(0.5));
   }
-  m.conversion_strain = r.number("conversion_strain", Range::gt(0), mc || hjc ? 0.02 : 0.5);
+  // hjc: its damage says when the concrete has fractured; its plastic strain under confinement
+  // grows far beyond 0.02 without (the strain to fracture D1 (P* + T*)^D2 reaches 1 at
+  // P* = 25), so the default converts by damage and leaves the plastic strain to flow.
+  m.conversion_strain = r.number("conversion_strain", Range::gt(0), hjc ? 1e300 : mc ? 0.02 : 0.5);
+  if (hjc) m.conversion_damage = r.number("conversion_damage", Range::gt(0).le(1), 1.0);
   m.conversion_length_ratio =
       r.number("conversion_length_ratio", Range::ge(0).lt(1), kDefaultConversionLengthRatio);
   if (m.model == MaterialModel::bilinear_j2) {

@@ -78,6 +78,7 @@ struct Material {
   double friction_angle = 0;     // rad (file: degrees) (mohr_coulomb)
   double tensile_strength = 0;   // Pa; tension cut-off (mohr_coulomb) and bond strength; 0 = none
   double conversion_strain = 0;  // equivalent plastic strain that converts an element
+  double conversion_damage = 0;  // hjc: damage that converts an element (0: never)
   // hjc: its constants (the [[material]] hjc table, compressive_strength, tensile_strength);
   // youngs_modulus and poisson_ratio are then derived from shear_modulus and the elastic bulk
   // modulus p_crush / mu_crush.

@@ -30,6 +30,7 @@ MaterialLaw material_law(const Material& m, Formulation f) {
   law.conversion_strain = m.conversion_strain;
   law.conversion_length_ratio = m.conversion_length_ratio;
   law.hjc = m.hjc;
+  law.conversion_damage = m.conversion_damage;
   cache_derived(law);
   return law;
 }
@@ -899,17 +900,19 @@ Model build_model(const Case& c) {
   const bool rate_dependent =
       std::any_of(c.materials.begin(), c.materials.end(),
                   [](const Material& mat) { return !mat.rate_dependence.strain_rate.empty(); });
-  // The elements' rate-dependent tension cut-off (FeForces::tension_rates): mohr_coulomb
-  // materials with a table, from the same strain rates.
+  // The elements' rate-dependent tension cut-off (FeForces::tension_rates): mohr_coulomb and
+  // hjc materials with a table, from the same strain rates.
+  const auto rated_law = [](const Material& mat) {
+    return mat.model == MaterialModel::mohr_coulomb || mat.model == MaterialModel::hjc;
+  };
   const bool rated_elements =
-      std::any_of(c.materials.begin(), c.materials.end(), [](const Material& mat) {
-        return mat.model == MaterialModel::mohr_coulomb && !mat.rate_dependence.strain_rate.empty();
+      std::any_of(c.materials.begin(), c.materials.end(), [&](const Material& mat) {
+        return rated_law(mat) && !mat.rate_dependence.strain_rate.empty();
       });
   if (rated_elements) {
     std::vector<RateLaw> rates(c.materials.size());
     for (size_t i = 0; i < c.materials.size(); ++i)
-      if (c.materials[i].model == MaterialModel::mohr_coulomb)
-        rates[i] = rate_law(c.materials[i].rate_dependence);
+      if (rated_law(c.materials[i])) rates[i] = rate_law(c.materials[i].rate_dependence);
     model.tension_rates = to_device_1d<RateLaw>("tension_rates", rates);
     model.elements.tension_factor =
         View<double*>("fracta::element_tension_factor", model.elements.count);

@@ -177,8 +177,8 @@ KOKKOS_INLINE_FUNCTION auto length_ratio_below(const T (&x)[4], const T (&y)[4],
 }
 
 // 1 if active element i has reached its conversion criterion: the material's conversion strain
-// (max over quadrature points) or, with on_tension, the tension cut-off (max principal stress),
-// or its distortion (conversion_length_ratio: length_ratio_below).
+// or conversion damage (max over quadrature points) or, with on_tension, the tension cut-off
+// (max principal stress), or its distortion (conversion_length_ratio: length_ratio_below).
 struct ConversionCriterion {
   View<int*> active;
   View<const int*> adaptive;
@@ -194,6 +194,8 @@ struct ConversionCriterion {
   View<double*> reference_norm2;
   // Dynamic increase factors of the tension cut-off (Elements::tension_factor); empty: 1.
   View<double*> tension_factor;
+  // State of laws that keep one (Elements::law_state: hjc's damage); empty: none.
+  View<double* [3]> law_state;
   KOKKOS_INLINE_FUNCTION bool distorted(const int e, const double ratio) const {
     if (!(ratio > 0.0) || reference_norm2.extent(0) == 0 || x.extent(0) == 0) return false;
     double xc[4], yc[4];
@@ -207,19 +209,22 @@ struct ConversionCriterion {
     const int e = active(i);
     if (!adaptive(e)) return 0;
     const MaterialLaw& m = materials(material(e));
-    double ep = 0.0, s1 = -1e300;
+    double ep = 0.0, s1 = -1e300, damage = 0.0;
     for (int g = 0; g < qp; ++g) {
       const int q = e * qp + g;
       ep = max_(ep, epeq(q));
+      if (m.conversion_damage > 0.0) damage = max_(damage, law_state(q, kHjcDamage));
       const double c = 0.5 * (stress(q, 0) + stress(q, 1));
       const double r = sqrt_(0.25 * (stress(q, 0) - stress(q, 1)) * (stress(q, 0) - stress(q, 1)) +
                              stress(q, 3) * stress(q, 3));
       s1 = max_(s1, c + r);
     }
-    const bool strain = m.conversion_strain > 0.0 && ep >= m.conversion_strain;
+    const bool strain = (m.conversion_strain > 0.0 && ep >= m.conversion_strain) ||
+                        (m.conversion_damage > 0.0 && damage >= m.conversion_damage);
     const double factor = tension_factor.extent(0) > 0 ? tension_factor(e) : 1.0;
-    const bool tension =
-        on_tension && m.tensile_strength > 0.0 && s1 >= m.tensile_strength * factor * (1.0 - 1e-9);
+    // hjc fails in tension through its damage, at its hydrostatic tension limit.
+    const bool tension = on_tension && m.tensile_strength > 0.0 && m.model != kHjc &&
+                         s1 >= m.tensile_strength * factor * (1.0 - 1e-9);
     return (strain || tension || distorted(e, m.conversion_length_ratio)) ? 1 : 0;
   }
 };
@@ -258,7 +263,8 @@ inline int compact_converted(Elements& el, const View<const int*>& adaptive,
                                       el.nodes,
                                       positions,
                                       el.reference_gradient_norm2,
-                                      el.tension_factor};
+                                      el.tension_factor,
+                                      el.law_state};
   int flagged = 0;
   Kokkos::parallel_reduce(
       "fracta::conversion_count", Kokkos::RangePolicy<ExecSpace>(0, n_active),
@@ -351,7 +357,8 @@ inline int compact_candidates(Elements& el, const View<const int*>& adaptive,
                                       el.nodes,
                                       positions,
                                       el.reference_gradient_norm2,
-                                      el.tension_factor};
+                                      el.tension_factor,
+                                      el.law_state};
   Kokkos::parallel_for(
       "fracta::conversion_candidates", Kokkos::RangePolicy<ExecSpace>(0, k),
       KOKKOS_LAMBDA(const int c) {

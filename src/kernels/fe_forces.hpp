@@ -389,7 +389,14 @@ struct FeForces {
     }
     const auto full_update =
         update_point_stress(mat, l, volume, volume_old, s, epeq, sum, factor, q);
-    if (conversion_pending.data() != nullptr) flag_conversion(mat, s, epeq, factor, sum.convert);
+    if (conversion_pending.data() != nullptr) {
+      flag_conversion(mat, s, epeq, factor, sum.convert);
+      if (mat.conversion_damage > 0.0)
+        sum.convert =
+            sum.convert || gather_lanes<T>(&elements.law_state(0, kHjcDamage), q,
+                                           static_cast<int>(elements.law_state.stride_0())) >=
+                               mat.conversion_damage;
+    }
 
     // Artificial bulk viscosity in compression (linear + quadratic, as LS-DYNA/Abaqus):
     // q = rho l (C2 l div^2 - C1 c div) for div < 0; it acts as a pressure on the forces only.
@@ -454,7 +461,9 @@ struct FeForces {
         const double f = get_lane(factor, k);
         double work = 0.0;
         if (mat.model == kHjc) {
-          work = law_point_update(mat, l, k, q[k], dl, sl, ep, sum.wave_speed);
+          work = f != 1.0 ? law_point_update(detail::with_tension_factor(mat, f), l, k, q[k], dl,
+                                             sl, ep, sum.wave_speed)
+                          : law_point_update(mat, l, k, q[k], dl, sl, ep, sum.wave_speed);
         } else {
           work = f != 1.0 ? fracta::update_stress(detail::with_tension_factor(mat, f), dl, sl, ep)
                           : fracta::update_stress(mat, dl, sl, ep);
@@ -510,7 +519,8 @@ struct FeForces {
                                                    const T& epeq, const T& tension_factor,
                                                    Mask& convert) const {
     if (mat.conversion_strain > 0.0) convert = convert || epeq >= mat.conversion_strain;
-    if (on_tension && mat.tensile_strength > 0.0) {
+    // hjc fails in tension through its damage (conversion_damage), at its hydrostatic limit.
+    if (on_tension && mat.tensile_strength > 0.0 && mat.model != kHjc) {
       const T centre = 0.5 * (s[0] + s[1]);
       const T r2 = 0.25 * (s[0] - s[1]) * (s[0] - s[1]) + s[3] * s[3];
       const T limit = mat.tensile_strength * (1.0 - 1e-9) * tension_factor;

@@ -29,6 +29,8 @@ struct MaterialLaw {
   double friction_angle = 0;    // mohr_coulomb, rad
   double tensile_strength = 0;  // Rankine cut-off, Pa (0 = no cut-off)
   double conversion_strain = 0;
+  // hjc: an adaptive element converts when a point's damage D reaches this (0: never).
+  double conversion_damage = 0;
   // An adaptive element converts when 1/sqrt(sum b.b) of its centre gradients (the length of
   // its stable step) falls below this fraction of its reference value (0: never).
   double conversion_length_ratio = 0;
@@ -241,10 +243,12 @@ KOKKOS_INLINE_FUNCTION double effective_tension_cap(const MaterialLaw& m, double
 }
 
 // The law with its tension cut-off raised by a dynamic increase factor (>= 1): tensile_strength
-// times the factor, and the cached cap re-derived from it (effective_tension_cap).
+// (and hjc's hydrostatic tension limit T) times the factor, and the cached cap re-derived from
+// it (effective_tension_cap).
 KOKKOS_INLINE_FUNCTION MaterialLaw with_tension_factor(const MaterialLaw& m, double factor) {
   MaterialLaw out = m;
   out.tensile_strength = m.tensile_strength * factor;
+  out.hjc.t = m.hjc.t * factor;
   if (m.cone_cached) {
     out.cone_cached = 0;
     out.tension_cap = effective_tension_cap(out, m.cone_alpha, m.cone_k);

@@ -398,5 +398,49 @@ TEST(Conversion, EverythingConvertsAndBalanceCloses) {
                  std::to_string(end.energy.conversion / end.energy.external));
 }
 
+// An adaptive hjc body converts an element when a point's damage reaches the material's
+// conversion_damage (exact: the damage is set by hand, so the answer is known), and not by the
+// principal-stress tension criterion, which hjc replaces by its damage: both through the sweep
+// (compact_converted) and through a step (the element kernel's flags).
+TEST(Conversion, HjcElementsConvertAtTheirConversionDamageOnly) {
+  Case c = adaptive_case(4, 4, 1e-3, Formulation::plane_strain);
+  Material& m = c.materials[0];
+  m.model = MaterialModel::hjc;
+  m.density = 2440.0;
+  m.hjc = HjcParams{0.79, 1.60, 0.61, 0.007, 48e6,  7.0,  4e6,  1.0,    0.04,
+                    1.0,  0.01, 16e6, 0.001, 0.8e9, 0.10, 85e9, -171e9, 208e9};
+  const double K = 16e9, G = 14.86e9;
+  m.youngs_modulus = 9 * K * G / (3 * K + G);
+  m.poisson_ratio = (3 * K - 2 * G) / (2 * (3 * K + G));
+  m.tensile_strength = 4e6;
+  m.conversion_strain = 1e300;
+  m.conversion_damage = 1.0;
+  c.sim.conversion_on_tension = true;
+  for (const bool through_step : {false, true}) {
+    Simulation sim(c);
+    Model& model = sim.model();
+    ASSERT_EQ(model.elements.law_state.extent(0), 16u);
+    auto state = Kokkos::create_mirror_view_and_copy(HostSpace(), model.elements.law_state);
+    state(5, kHjcDamage) = 1.0;
+    state(6, kHjcDamage) = 0.99;
+    state(9, kHjcDamage) = 1.0;
+    Kokkos::deep_copy(model.elements.law_state, state);
+    // Element 10: a principal stress of 3 T, which converts a mohr_coulomb element by tension.
+    auto stress = Kokkos::create_mirror_view_and_copy(HostSpace(), model.elements.stress);
+    stress(10, 0) = 12e6;
+    Kokkos::deep_copy(model.elements.stress, stress);
+    if (through_step) {
+      sim.step();
+      EXPECT_EQ(sim.conversions(), 2);
+    } else {
+      EXPECT_EQ(compact_converted(model.elements, model.element_adaptive, model.materials, true,
+                                  model.new_cells, model.active_scratch),
+                2);
+    }
+    const auto alive = Kokkos::create_mirror_view_and_copy(HostSpace(), model.elements.alive);
+    for (int e = 0; e < 16; ++e) EXPECT_EQ(alive(e) == 0, e == 5 || e == 9) << "element " << e;
+  }
+}
+
 }  // namespace
 }  // namespace fracta

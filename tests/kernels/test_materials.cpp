@@ -904,6 +904,13 @@ TEST(MaterialHjc, HydrostaticTensionStopsAtT) {
   EXPECT_LT(pt.state[fracta::kHjcDamage], 1e-12);
 }
 
+// A dynamic increase factor (rate_dependence) raises the tension limit T with the factor.
+TEST(MaterialHjc, TensionFactorRaisesTheTensionLimit) {
+  HjcPoint pt{fracta::detail::with_tension_factor(hjc_concrete(), 2.5)};
+  compress_to(pt, -5.0 * kT / (kPc / kMuc), 4);
+  EXPECT_NEAR(pt.pressure(), -2.5 * kT, 1e-9 * kT);
+}
+
 // Pure shear at the pressure of an elastic compression mu0 (below mu_crush): the trace is 0, so
 // the pressure stays K_e mu0 (exactly: the shear increments have no trace).
 struct ShearAtPressure {
