@@ -44,7 +44,7 @@ time) into the results directory.
     regular lattice's two angles for comparison.
 
 Usage: /usr/bin/python3 bench/tradeoff.py [--fracta build/fracta] [--out bench/results]
-                                 [--study plate|penetration|speed|fragmentation|crackpath|all]
+                                 [--study plate|penetration|speed|fragmentation|crackpath|crackspeed|all]
                                  [--quick]
 """
 import argparse
@@ -454,12 +454,61 @@ def study_crackpath(fracta, out, tmp, quick):
     return rows
 
 
+# Mode-I crack speed (docs/validation.md, "Mode-I crack speed"): the glass-like plane-strain
+# plate of scripts/crack_case.py, pre-crack faces under a suddenly applied 6 MPa, run to 4 us at
+# three cell sizes. A run's crack length is its fracture energy over G_c (a_E); the answer is
+# Freund's equation of motion G_c = g(v) G*(t, l) with G* of stationary cracks, which gives
+# a = 1.50 mm at 4 us (validation.md's table; scripts/crack_speed.sh derives it from eight
+# elastic reference runs, 10 minutes that this study does not repeat).
+CRACKSPEED_CELLS_M = [2e-4, 1e-4, 5e-5]
+CRACKSPEED_FREUND_MM = 1.50
+CRACKSPEED_GC = 3.8  # J/m^2
+
+
+def study_crackspeed(fracta, out, tmp, quick):
+    import tomllib
+    cells = CRACKSPEED_CELLS_M[:2] if quick else CRACKSPEED_CELLS_M
+    rows = []
+    for h in cells:
+        case = os.path.join(tmp, f"crack_{h:g}.toml")
+        subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "crack_case.py"), f"{h:g}",
+                        case, "--frame", "1.0"], check=True, stdout=subprocess.DEVNULL)
+        with open(case, "rb") as f:
+            thickness = tomllib.load(f)["simulation"].get("thickness", 1.0)
+        path = os.path.join(tmp, "crack.h5")
+        rc, msg = run_fracta(fracta, case, ["simulation.output_interval=1.0"], path)
+        row = dict(cell_mm=h * 1e3, process_zone_cells=float("nan"), a_end_mm=float("nan"),
+                   a_over_freund=float("nan"), speed_last_us=float("nan"), wall_s=float("nan"),
+                   status=rc, message=msg)
+        if rc == 0:
+            with h5py.File(path, "r") as f:
+                t = f["history/time"][:]
+                a = f["history/energy/fracture"][:] / (CRACKSPEED_GC * thickness)
+                row["wall_s"] = float(attr(f, "wall_seconds"))
+            end = t[-1]
+            a_end, a_before = np.interp(end, t, a), np.interp(end - 1e-6, t, a)
+            E, nu, sigma_t = 72e9, 0.22, 30e6
+            row["process_zone_cells"] = E / (1 - nu ** 2) * CRACKSPEED_GC / sigma_t ** 2 / h
+            row["a_end_mm"] = float(a_end * 1e3)
+            row["a_over_freund"] = float(a_end * 1e3 / CRACKSPEED_FREUND_MM)
+            row["speed_last_us"] = float((a_end - a_before) / 1e-6)
+        rows.append(row)
+        print(f"crackspeed h {h * 1e3:g} mm: " +
+              (f"a_E {row['a_end_mm']:.3f} mm ({row['a_over_freund']:.3f} of Freund), "
+               f"{row['speed_last_us']:.0f} m/s, {row['wall_s']:.1f} s" if rc == 0 else
+               f"exit {rc}: {msg}"), flush=True)
+    write_csv(rows, ["cell_mm", "process_zone_cells", "a_end_mm", "a_over_freund",
+                     "speed_last_us", "wall_s", "status", "message"],
+              os.path.join(out, "tradeoff_crackspeed.csv"))
+    return rows
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--fracta", default=os.path.join(ROOT, "build", "fracta"))
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results"))
     ap.add_argument("--study", choices=["plate", "penetration", "speed", "fragmentation",
-                                        "crackpath", "all"],
+                                        "crackpath", "crackspeed", "all"],
                     default="all")
     ap.add_argument("--quick", action="store_true", help="two cell sizes only (pipeline check)")
     args = ap.parse_args()
@@ -476,6 +525,8 @@ def main():
             study_fragmentation(args.fracta, args.out, tmp, args.quick)
         if args.study in ("crackpath", "all"):
             study_crackpath(args.fracta, args.out, tmp, args.quick)
+        if args.study in ("crackspeed", "all"):
+            study_crackspeed(args.fracta, args.out, tmp, args.quick)
     with open(os.path.join(args.out, "tradeoff_machine.txt"), "w") as f:
         for k, v in machine_info().items():
             f.write(f"{k}: {v}\n")

@@ -183,6 +183,19 @@ def crackpath_tradeoff_block(results):
                    r["regular_deg"]] for r in rows])
 
 
+def crackspeed_tradeoff_block(results):
+    path = os.path.join(results, "tradeoff_crackspeed.csv")
+    if not os.path.exists(path):
+        return "(not run)"
+    rows = read_csv(path)
+    return table(["cell (mm)", "process zone (cells)", "crack length a_E at 4 µs (mm)",
+                  "a_E / Freund (1.50 mm)", "speed over the last µs (m/s)", "wall (s)"],
+                 [[r["cell_mm"], fmt(float(r["process_zone_cells"]), ".1f"),
+                   fmt(float(r["a_end_mm"]), ".3f"), fmt(float(r["a_over_freund"]), ".3f"),
+                   fmt(float(r["speed_last_us"]), ".0f"), fmt(float(r["wall_s"]), ".1f")]
+                  for r in rows])
+
+
 def output_cost_block(results):
     path = os.path.join(results, "output_cost.csv")
     if not os.path.exists(path):
@@ -213,6 +226,7 @@ def main():
         "tradeoff_speed": speed_tradeoff_block(args.results),
         "tradeoff_fragmentation": fragmentation_tradeoff_block(args.results),
         "tradeoff_crackpath": crackpath_tradeoff_block(args.results),
+        "tradeoff_crackspeed": crackspeed_tradeoff_block(args.results),
         "output_cost": output_cost_block(args.results),
     }
     text = open(args.doc).read()
