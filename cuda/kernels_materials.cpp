@@ -18,7 +18,7 @@ void materials_kernels(const View<const MaterialLaw*>& laws, const View<double* 
         double state[kLawStateSize] = {0.0, 1e-3, 2e-3};
         const double work = update_stress(m, deps, s, ep) +
                             update_stress_with_state(m, deps, s, ep, state, 10.0) +
-                            hjc_wave_speed(m, state);
+                            hjc_wave_speed(m, state) + law_wave_speed(m, state);
         for (int k = 0; k < 4; ++k) stress(q, k) = s[k];
         epeq(q) = ep;
         out(q) = work + elastic_energy_density(m, s) + m.wave_speed() + m.p_wave_modulus() +

@@ -134,7 +134,8 @@ const Choices<Formulation> kFormulations = {{"plane_strain", Formulation::plane_
 const Choices<MaterialModel> kModels = {{"elastic", MaterialModel::elastic},
                                         {"bilinear_j2", MaterialModel::bilinear_j2},
                                         {"mohr_coulomb", MaterialModel::mohr_coulomb},
-                                        {"hjc", MaterialModel::hjc}};
+                                        {"hjc", MaterialModel::hjc},
+                                        {"johnson_cook", MaterialModel::johnson_cook}};
 const Choices<BodyMethod> kMethods = {{"fe", BodyMethod::fe},
                                       {"de", BodyMethod::de},
                                       {"adaptive", BodyMethod::adaptive},
@@ -653,7 +654,36 @@ const std::map<MaterialModel, KeyList> kMaterialModelKeys = {
     {MaterialModel::mohr_coulomb,
      {"youngs_modulus", "poisson_ratio", "cohesion", "friction_angle", "fracture_energy"}},
     {MaterialModel::hjc,
-     {"shear_modulus", "compressive_strength", "hjc", "fracture_energy", "conversion_damage"}}};
+     {"shear_modulus", "compressive_strength", "hjc", "fracture_energy", "conversion_damage"}},
+    {MaterialModel::johnson_cook,
+     {"youngs_modulus", "poisson_ratio", "johnson_cook", "conversion_damage"}}};
+
+// [[material]] model = "johnson_cook": youngs_modulus, poisson_ratio and the table
+// johnson_cook = { A, B, n, C, m, melting_temperature, room_temperature, reference_strain_rate,
+// specific_heat, taylor_quinney, D1, D2, D3, D4, D5 } in the symbols of Johnson & Cook (1983,
+// 1985), SI units (A, B in Pa, temperatures in K, c_p in J/(kg K)).
+void read_johnson_cook(const Reader& r, Material& m) {
+  const Reader t = r.table("johnson_cook");
+  t.allow_only({"A", "B", "n", "C", "m", "melting_temperature", "room_temperature",
+                "reference_strain_rate", "specific_heat", "taylor_quinney", "D1", "D2", "D3", "D4",
+                "D5"});
+  JohnsonCookParams& j = m.jc;
+  j.a = t.number("A", Range::gt(0));
+  j.b = t.number("B", Range::ge(0));
+  j.n = t.number("n", Range::gt(0).le(1));
+  j.c = t.number("C", Range::ge(0));
+  j.m = t.number("m", Range::gt(0));
+  j.t_room = t.number("room_temperature", Range::gt(0), 293.0);
+  j.t_melt = t.number("melting_temperature", Range::gt(j.t_room));
+  j.eps0 = t.number("reference_strain_rate", Range::gt(0), 1.0);
+  j.specific_heat = t.number("specific_heat", Range::ge(0), 0.0);
+  j.taylor_quinney = t.number("taylor_quinney", Range::ge(0).le(1), 0.9);
+  j.d1 = t.number("D1", Range::any(), 0.0);
+  j.d2 = t.number("D2", Range::any(), 0.0);
+  j.d3 = t.number("D3", Range::any(), 0.0);
+  j.d4 = t.number("D4", Range::any(), 0.0);
+  j.d5 = t.number("D5", Range::any(), 0.0);
+}
 
 // [[material]] model = "hjc": shear_modulus, compressive_strength (f'_c) and the table
 // hjc = { A, B, N, C, S_max, reference_strain_rate, D1, D2, EF_min, p_crush, mu_crush, p_lock,
@@ -771,6 +801,7 @@ Material read_material(const Reader& r, Names& names, Formulation formulation) {
   m.density = r.number("density", Range::gt(0));
   const bool mc = m.model == MaterialModel::mohr_coulomb;
   const bool hjc = m.model == MaterialModel::hjc;
+  const bool jc = m.model == MaterialModel::johnson_cook;
   m.tensile_strength = mc || hjc ? r.number("tensile_strength", Range::ge(0))
                                  : r.number("tensile_strength", Range::ge(0), 0.0);
   if (hjc) {
@@ -781,11 +812,24 @@ Material read_material(const Reader& r, Names& names, Formulation formulation) {
     m.youngs_modulus = r.number("youngs_modulus", Range::gt(0));
     m.poisson_ratio = r.number("poisson_ratio", Range::gt(-1).lt(0.5));
   }
+  if (jc) {
+    if (formulation != Formulation::plane_strain)
+      r.fail("model", "\"johnson_cook\" needs simulation.formulation = \"plane_strain\"");
+    read_johnson_cook(r, m);
+  }
   // hjc: its damage says when the concrete has fractured; its plastic strain under confinement
   // grows far beyond 0.02 without (the strain to fracture D1 (P* + T*)^D2 reaches 1 at
   // P* = 25), so the default converts by damage and leaves the plastic strain to flow.
   m.conversion_strain = r.number("conversion_strain", Range::gt(0), hjc ? 1e300 : mc ? 0.02 : 0.5);
   if (hjc) m.conversion_damage = r.number("conversion_damage", Range::gt(0).le(1), 1.0);
+  // johnson_cook: by its failure strain when it has one (D1..D5 not all 0).
+  if (jc) {
+    const JohnsonCookParams& j = m.jc;
+    const bool failure = j.d1 != 0 || j.d2 != 0 || j.d3 != 0 || j.d4 != 0 || j.d5 != 0;
+    if (r.has("conversion_damage") && !failure)
+      r.fail("conversion_damage", "needs the failure constants D1..D5 of johnson_cook");
+    if (failure) m.conversion_damage = r.number("conversion_damage", Range::gt(0).le(1), 1.0);
+  }
   m.conversion_length_ratio =
       r.number("conversion_length_ratio", Range::ge(0).lt(1), kDefaultConversionLengthRatio);
   if (m.model == MaterialModel::bilinear_j2) {

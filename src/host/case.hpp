@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "kernels/hjc_params.hpp"
+#include "kernels/law_params.hpp"
 
 namespace fracta {
 
@@ -31,7 +31,7 @@ struct InputError : std::runtime_error {
 using Vec2 = std::array<double, 2>;
 
 enum class Formulation { plane_stress, plane_strain };
-enum class MaterialModel { elastic, bilinear_j2, mohr_coulomb, hjc };
+enum class MaterialModel { elastic, bilinear_j2, mohr_coulomb, hjc, johnson_cook };
 enum class BodyMethod { fe, de, adaptive, rigid };
 enum class HourglassForm { viscous, stiffness };
 enum class Integration { reduced, full };  // 1-point + hourglass control, or 2x2 Gauss
@@ -78,11 +78,12 @@ struct Material {
   double friction_angle = 0;     // rad (file: degrees) (mohr_coulomb)
   double tensile_strength = 0;   // Pa; tension cut-off (mohr_coulomb) and bond strength; 0 = none
   double conversion_strain = 0;  // equivalent plastic strain that converts an element
-  double conversion_damage = 0;  // hjc: damage that converts an element (0: never)
+  double conversion_damage = 0;  // hjc, johnson_cook: damage that converts an element (0: never)
   // hjc: its constants (the [[material]] hjc table, compressive_strength, tensile_strength);
   // youngs_modulus and poisson_ratio are then derived from shear_modulus and the elastic bulk
   // modulus p_crush / mu_crush.
   HjcParams hjc;
+  JohnsonCookParams jc;  // johnson_cook: the [[material]] johnson_cook table
   // An element converts when its characteristic length has shrunk below this fraction of its
   // initial one (distortion, compression): its stable step is then as much below its initial.
   double conversion_length_ratio = kDefaultConversionLengthRatio;

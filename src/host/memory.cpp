@@ -63,7 +63,8 @@ constexpr double kLatticeElementBytes = 88;
 constexpr double kConvertibleCellBytes = 4 * (108 + 24) + 32 + 16 + 232 + 350;
 // Weibull strengths: a factor per slot and the smallest per cell (heterogeneity.hpp).
 constexpr double kWeibullCellBytes = 4 * 8 + 8;
-// Law state of every quadrature point when a material keeps one (hjc: 3 doubles), in the state
+// Law state of every quadrature point when a material keeps one (hjc, johnson_cook: 3 doubles),
+// in the state
 // and its snapshot.
 constexpr double kLawStatePointBytes = 2 * 24;
 // Rate dependence: the filtered velocity of every node, in the state and its snapshot.
@@ -99,7 +100,7 @@ MemoryEstimate estimate_memory(const Case& c) {
   const int qp = c.sim.integration == Integration::full ? 4 : 1;
   // Allocated for every point of the mesh when any material keeps a state (model.cpp).
   const bool law_state = std::any_of(c.materials.begin(), c.materials.end(), [](const Material& m) {
-    return m.model == MaterialModel::hjc;
+    return m.model == MaterialModel::hjc || m.model == MaterialModel::johnson_cook;
   });
   double largest = -1;
   for (size_t i = 0; i < c.bodies.size(); ++i) {

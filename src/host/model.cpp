@@ -16,10 +16,11 @@
 namespace fracta {
 
 MaterialLaw material_law(const Material& m, Formulation f) {
-  const int model = m.model == MaterialModel::elastic       ? kElastic
-                    : m.model == MaterialModel::bilinear_j2 ? kBilinearJ2
-                    : m.model == MaterialModel::hjc         ? kHjc
-                                                            : kMohrCoulomb;
+  const int model = m.model == MaterialModel::elastic        ? kElastic
+                    : m.model == MaterialModel::bilinear_j2  ? kBilinearJ2
+                    : m.model == MaterialModel::hjc          ? kHjc
+                    : m.model == MaterialModel::johnson_cook ? kJohnsonCook
+                                                             : kMohrCoulomb;
   MaterialLaw law = make_material_law(model, f == Formulation::plane_strain, m.density,
                                       m.youngs_modulus, m.poisson_ratio);
   law.yield_stress = m.yield_stress;
@@ -30,6 +31,7 @@ MaterialLaw material_law(const Material& m, Formulation f) {
   law.conversion_strain = m.conversion_strain;
   law.conversion_length_ratio = m.conversion_length_ratio;
   law.hjc = m.hjc;
+  law.jc = m.jc;
   law.conversion_damage = m.conversion_damage;
   cache_derived(law);
   return law;
@@ -555,6 +557,8 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
       law.yield_stress = mat.yield_stress;
       law.hardening = mat.plastic_modulus;
     }
+    // johnson_cook bonds: elastoplastic at the initial flow stress A, no hardening.
+    if (mat.model == MaterialModel::johnson_cook) law.yield_stress = mat.jc.a;
     if (mat.model == MaterialModel::mohr_coulomb) {
       law.cohesion = mat.cohesion;
       law.tan_friction = std::tan(mat.friction_angle);
@@ -857,9 +861,11 @@ Model build_model(const Case& c) {
   el.epeq = View<double*>("fracta::qp_epeq", static_cast<size_t>(ne) * qp);
   el.qp_volume = View<double*>("fracta::qp_volume", static_cast<size_t>(ne) * qp);
   el.bulk_viscosity = View<double*>("fracta::qp_bulk_viscosity", static_cast<size_t>(ne) * qp);
-  // The state of laws that keep one (hjc), zero: intact, at rest density.
-  if (std::any_of(c.materials.begin(), c.materials.end(),
-                  [](const Material& mat) { return mat.model == MaterialModel::hjc; }))
+  // The state of laws that keep one (hjc, johnson_cook), zero: intact, at rest density, at room
+  // temperature.
+  if (std::any_of(c.materials.begin(), c.materials.end(), [](const Material& mat) {
+        return mat.model == MaterialModel::hjc || mat.model == MaterialModel::johnson_cook;
+      }))
     el.law_state = View<double* [3]>("fracta::qp_law_state", static_cast<size_t>(ne) * qp);
   el.hourglass_disp = decltype(el.hourglass_disp)("fracta::element_hourglass_disp", ne);
   el.hourglass_force = decltype(el.hourglass_force)("fracta::element_hourglass_force", ne);

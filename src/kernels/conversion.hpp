@@ -194,7 +194,7 @@ struct ConversionCriterion {
   View<double*> reference_norm2;
   // Dynamic increase factors of the tension cut-off (Elements::tension_factor); empty: 1.
   View<double*> tension_factor;
-  // State of laws that keep one (Elements::law_state: hjc's damage); empty: none.
+  // State of laws that keep one (Elements::law_state: their damage); empty: none.
   View<double* [3]> law_state;
   KOKKOS_INLINE_FUNCTION bool distorted(const int e, const double ratio) const {
     if (!(ratio > 0.0) || reference_norm2.extent(0) == 0 || x.extent(0) == 0) return false;
@@ -213,7 +213,7 @@ struct ConversionCriterion {
     for (int g = 0; g < qp; ++g) {
       const int q = e * qp + g;
       ep = max_(ep, epeq(q));
-      if (m.conversion_damage > 0.0) damage = max_(damage, law_state(q, kHjcDamage));
+      if (m.conversion_damage > 0.0) damage = max_(damage, law_state(q, kLawDamage));
       const double c = 0.5 * (stress(q, 0) + stress(q, 1));
       const double r = sqrt_(0.25 * (stress(q, 0) - stress(q, 1)) * (stress(q, 0) - stress(q, 1)) +
                              stress(q, 3) * stress(q, 3));

@@ -393,7 +393,7 @@ struct FeForces {
       flag_conversion(mat, s, epeq, factor, sum.convert);
       if (mat.conversion_damage > 0.0)
         sum.convert =
-            sum.convert || gather_lanes<T>(&elements.law_state(0, kHjcDamage), q,
+            sum.convert || gather_lanes<T>(&elements.law_state(0, kLawDamage), q,
                                            static_cast<int>(elements.law_state.stride_0())) >=
                                mat.conversion_damage;
     }
@@ -460,7 +460,7 @@ struct FeForces {
         // above still marks every lane that may leave it.
         const double f = get_lane(factor, k);
         double work = 0.0;
-        if (mat.model == kHjc) {
+        if (has_law_state(mat.model)) {
           work = f != 1.0 ? law_point_update(detail::with_tension_factor(mat, f), l, k, q[k], dl,
                                              sl, ep, sum.wave_speed)
                           : law_point_update(mat, l, k, q[k], dl, sl, ep, sum.wave_speed);
@@ -486,10 +486,10 @@ struct FeForces {
     return full_update;
   }
 
-  // Lane k of a law with a state (update_stress_with_state: hjc) at point q: its state read and
-  // written back, its equivalent strain rate sqrt(2/3 d':d') from the velocity gradient l, and
-  // the lane's wave speed raised to the point's (hjc_wave_speed) for the stable step. Returns
-  // the dissipation density (J/m^3).
+  // Lane k of a law with a state (update_stress_with_state: hjc, johnson_cook) at point q: its
+  // state read and written back, its equivalent strain rate sqrt(2/3 d':d') from the velocity
+  // gradient l, and the lane's wave speed raised to the point's (law_wave_speed) for the stable
+  // step. Returns the dissipation density (J/m^3).
   template <class T>
   KOKKOS_FORCEINLINE_FUNCTION double law_point_update(const MaterialLaw& mat, const T (&l)[4],
                                                       const int k, const int q,
@@ -504,7 +504,7 @@ struct FeForces {
     for (int c = 0; c < kLawStateSize; ++c) state[c] = elements.law_state(q, c);
     const double work = update_stress_with_state(mat, deps, s, epeq, state, rate);
     for (int c = 0; c < kLawStateSize; ++c) elements.law_state(q, c) = state[c];
-    set_lane(wave_speed, k, max_(get_lane(wave_speed, k), hjc_wave_speed(mat, state)));
+    set_lane(wave_speed, k, max_(get_lane(wave_speed, k), law_wave_speed(mat, state)));
     return work;
   }
 

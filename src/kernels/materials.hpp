@@ -7,12 +7,18 @@
 // whatever keeps it so.
 #pragma once
 #include "kernels/compat.hpp"
-#include "kernels/hjc_params.hpp"
+#include "kernels/law_params.hpp"
 #include "kernels/simd.hpp"
 
 namespace fracta {
 
-enum MaterialModelId : int { kElastic = 0, kBilinearJ2 = 1, kMohrCoulomb = 2, kHjc = 3 };
+enum MaterialModelId : int {
+  kElastic = 0,
+  kBilinearJ2 = 1,
+  kMohrCoulomb = 2,
+  kHjc = 3,
+  kJohnsonCook = 4
+};
 
 // Plain data copied by value into kernels (one per material).
 struct MaterialLaw {
@@ -29,7 +35,8 @@ struct MaterialLaw {
   double friction_angle = 0;    // mohr_coulomb, rad
   double tensile_strength = 0;  // Rankine cut-off, Pa (0 = no cut-off)
   double conversion_strain = 0;
-  // hjc: an adaptive element converts when a point's damage D reaches this (0: never).
+  // hjc, johnson_cook: an adaptive element converts when a point's damage D reaches this (0:
+  // never).
   double conversion_damage = 0;
   // An adaptive element converts when 1/sqrt(sum b.b) of its centre gradients (the length of
   // its stable step) falls below this fraction of its reference value (0: never).
@@ -42,6 +49,7 @@ struct MaterialLaw {
   double cone_k = 0;        // Pa
   double tension_cap = -1;  // Pa, effective_tension_cap (negative: none)
   HjcParams hjc;            // model kHjc
+  JohnsonCookParams jc;     // model kJohnsonCook
 
   // P-wave modulus of the formulation: plane strain lambda + 2G, plane stress E / (1 - nu^2).
   // hjc (plane strain only): its elastic moduli, K = p_crush / mu_crush; compacted points are
@@ -620,11 +628,103 @@ KOKKOS_INLINE_FUNCTION double hjc_update(const MaterialLaw& m, const double deps
   return work;
 }
 
+// ---------------------------------------------------------------------------------------------
+// johnson_cook: Johnson-Cook plasticity and fracture (JohnsonCookParams). Plane strain, on the
+// 3D stress {xx, yy, zz, xy}: J2 radial return onto the flow stress at the step's strain rate
+// and start temperature. State per point: JohnsonCookState.
+// ---------------------------------------------------------------------------------------------
+
+// Flow stress (Johnson & Cook 1983, Eq. 1): (A + B eps_p^n) [1 + C ln(eps_dot*)] (1 - T*^m),
+// eps_dot* = eps_dot / eps0 (no rate term below eps0), T* = dT / (t_melt - t_room) for a point
+// heated by dT above room temperature (0 at or below it; no strength at the melting point).
+KOKKOS_INLINE_FUNCTION double jc_flow_stress(const JohnsonCookParams& j, double ep,
+                                             double strain_rate, double heating) {
+  const double hardening = j.a + (ep > 0.0 ? j.b * pow_(ep, j.n) : 0.0);
+  const double rate = strain_rate > j.eps0 ? 1.0 + j.c * log_(strain_rate / j.eps0) : 1.0;
+  const double t_star = j.t_melt > j.t_room ? heating / (j.t_melt - j.t_room) : 0.0;
+  const double thermal = t_star <= 0.0 ? 1.0 : t_star >= 1.0 ? 0.0 : 1.0 - pow_(t_star, j.m);
+  return hardening * rate * thermal;
+}
+
+// Equivalent plastic strain to fracture (Johnson & Cook 1985, Eq. 1):
+// [D1 + D2 exp(D3 sigma*)] [1 + D4 ln(eps_dot*)] [1 + D5 T*], sigma* = mean stress / von Mises
+// stress (the triaxiality), eps_dot* >= 1 as for the flow stress. 0: no failure (all D 0).
+KOKKOS_INLINE_FUNCTION double jc_fracture_strain(const JohnsonCookParams& j, double triaxiality,
+                                                 double strain_rate, double heating) {
+  const double rate = strain_rate > j.eps0 ? log_(strain_rate / j.eps0) : 0.0;
+  const double t_star = j.t_melt > j.t_room ? max_(heating / (j.t_melt - j.t_room), 0.0) : 0.0;
+  return (j.d1 + j.d2 * exp_(j.d3 * triaxiality)) * (1.0 + j.d4 * rate) * (1.0 + j.d5 * t_star);
+}
+
+// One johnson_cook update: the 3D elastic trial (eps_zz increment deps_zz), then, if the trial's
+// von Mises stress q exceeds the flow stress, the radial return q - 3G d = sigma_y(eps_p + d)
+// solved for the plastic strain increment d by Newton safeguarded with bisection on
+// [0, q / 3G] (the hardening slope B n eps_p^(n-1) is unbounded at eps_p = 0), at the step's
+// strain rate and start temperature. Then adiabatic heating dT += chi sigma_y d / (rho c_p) and
+// damage D += d / eps_f at the new stress's triaxiality (at most 1). state: JohnsonCookState.
+// Returns the plastic work density sigma_y d (J/m^3).
+KOKKOS_INLINE_FUNCTION double jc_update(const MaterialLaw& m, const double deps[3], double deps_zz,
+                                        double s[4], double& epeq, double state[3],
+                                        double strain_rate) {
+  const JohnsonCookParams& j = m.jc;
+  const double G = m.shear_modulus;
+  elastic_increment_3d(m, deps, deps_zz, s);
+  const double p = (s[0] + s[1] + s[2]) / 3.0;
+  double d[4] = {s[0] - p, s[1] - p, s[2] - p, s[3]};
+  const double q = sqrt_(1.5 * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + 2.0 * d[3] * d[3]));
+  const double heating = state[1];
+  if (!(q > jc_flow_stress(j, epeq, strain_rate, heating))) return 0.0;
+  double lo = 0.0, hi = q / (3.0 * G), dp = 0.0;
+  for (int it = 0; it < 100; ++it) {
+    const double yield = jc_flow_stress(j, epeq + dp, strain_rate, heating);
+    const double g = q - 3.0 * G * dp - yield;
+    if (fabs_(g) <= 1e-14 * q) break;
+    if (g > 0.0) {
+      lo = dp;
+    } else {
+      hi = dp;
+    }
+    // Slope of the flow stress by a one-sided difference (the closed form is unbounded at 0).
+    const double h = 1e-8 * (epeq + dp) + 1e-12;
+    const double slope = (jc_flow_stress(j, epeq + dp + h, strain_rate, heating) - yield) / h;
+    double next = dp + g / (3.0 * G + max_(slope, 0.0));
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (fabs_(next - dp) <= 1e-15 * (epeq + next)) {
+      dp = next;
+      break;
+    }
+    dp = next;
+  }
+  const double q_new = q - 3.0 * G * dp;
+  const double f = q_new / q;
+  for (int k = 0; k < 4; ++k) d[k] *= f;
+  s[0] = p + d[0];
+  s[1] = p + d[1];
+  s[2] = p + d[2];
+  s[3] = d[3];
+  epeq += dp;
+  if (j.specific_heat > 0.0)
+    state[1] = heating + j.taylor_quinney * q_new * dp / (m.density * j.specific_heat);
+  const double fracture =
+      jc_fracture_strain(j, q_new > 0.0 ? p / q_new : 0.0, strain_rate, heating);
+  if (fracture > 0.0) state[0] = min_(state[0] + dp / fracture, 1.0);
+  return q_new * dp;
+}
+
 }  // namespace detail
 
-// State per point of an hjc material (Elements::law_state): damage D in [0, 1], volumetric
-// strain mu = rho / rho0 - 1, and the largest mu reached (the equation of state's memory).
-enum HjcState : int { kHjcDamage = 0, kHjcMu = 1, kHjcMuMax = 2, kLawStateSize = 3 };
+// State per point of the laws that keep one (Elements::law_state), kLawStateSize values, the
+// damage D in [0, 1] first (the conversion criterion reads it, conversion_damage):
+//   hjc: D, volumetric strain mu = rho / rho0 - 1, and the largest mu reached;
+//   johnson_cook: D, the temperature rise above room temperature (K), unused.
+enum HjcState : int { kLawDamage = 0, kHjcDamage = 0, kHjcMu = 1, kHjcMuMax = 2 };
+enum JohnsonCookState : int { kJcHeating = 1 };
+constexpr int kLawStateSize = 3;
+
+// Whether a model keeps a state per point (Elements::law_state).
+KOKKOS_INLINE_FUNCTION bool has_law_state(int model) {
+  return model == kHjc || model == kJohnsonCook;
+}
 
 // P-wave speed (m/s) of an hjc point in its state now: its tangent bulk modulus
 // (detail::hjc_tangent_bulk_modulus) + 4G/3 over rho0. A compacted point unloads up to K1 /
@@ -632,6 +732,11 @@ enum HjcState : int { kHjcDamage = 0, kHjcMu = 1, kHjcMuMax = 2, kLawStateSize =
 KOKKOS_INLINE_FUNCTION double hjc_wave_speed(const MaterialLaw& m, const double state[3]) {
   const double k = detail::hjc_tangent_bulk_modulus(m.hjc, state[kHjcMu], state[kHjcMuMax]);
   return sqrt_((k + 4.0 / 3.0 * m.shear_modulus) / m.density);
+}
+
+// P-wave speed (m/s) of a point of a law with a state: hjc_wave_speed, or the law's own.
+KOKKOS_INLINE_FUNCTION double law_wave_speed(const MaterialLaw& m, const double state[3]) {
+  return m.model == kHjc ? hjc_wave_speed(m, state) : m.p_wave_speed;
 }
 
 // Fills the cached derived values of a law (host, once, after its parameters are set).
@@ -655,13 +760,15 @@ inline void cache_derived(MaterialLaw& m) {
 //     plane stress, with s_zz = 0, 3 J2 is the q2 of j2_plane_stress_return);
 //   mohr_coulomb, plane strain: trial outside the cone (sqrt J2 > k - alpha I1) or a principal
 //     stress above the cap; plane stress (an eps_zz iteration) and uncached laws: always true;
-//   hjc: always true (update_stress_with_state).
+//   hjc, johnson_cook: always true (update_stress_with_state).
 template <class T>
 KOKKOS_INLINE_FUNCTION auto may_leave_elastic(const MaterialLaw& m, const T s_trial[4],
                                               const T& epeq) {
   constexpr double margin = 1.0 - 1e-9;
   if (m.model == kElastic) return !all_lanes<T>();
-  if (m.model == kHjc) return all_lanes<T>();  // its pressure is not the elastic trial's
+  // hjc: its pressure is not the elastic trial's; johnson_cook: its flow stress depends on the
+  // strain rate and temperature, which the trial does not see.
+  if (m.model == kHjc || m.model == kJohnsonCook) return all_lanes<T>();
   if (m.model == kMohrCoulomb && (!m.cone_cached || !m.plane_strain)) return all_lanes<T>();
   const T p = (s_trial[0] + s_trial[1] + s_trial[2]) / 3.0;
   const T d0 = s_trial[0] - p, d1 = s_trial[1] - p, d2 = s_trial[2] - p;
@@ -699,12 +806,13 @@ KOKKOS_INLINE_FUNCTION double update_stress(const MaterialLaw& m, const double d
 }
 
 // update_stress for laws with a state beyond the stress and epeq (kLawStateSize values per
-// point, Elements::law_state) and a strain-rate term: hjc; the others ignore both.
+// point, Elements::law_state) and a strain-rate term: hjc, johnson_cook; the others ignore both.
 // strain_rate: the point's equivalent strain rate sqrt(2/3 d':d') (1/s).
 KOKKOS_INLINE_FUNCTION double update_stress_with_state(const MaterialLaw& m, const double deps[3],
                                                        double s[4], double& epeq, double state[3],
                                                        double strain_rate) {
   if (m.model == kHjc) return detail::hjc_update(m, deps, 0.0, s, epeq, state, strain_rate);
+  if (m.model == kJohnsonCook) return detail::jc_update(m, deps, 0.0, s, epeq, state, strain_rate);
   return update_stress(m, deps, s, epeq);
 }
 

@@ -293,8 +293,8 @@ struct Elements {
   View<double*> epeq;              // equivalent plastic strain (paper Eq. 13)
   View<double*> qp_volume;         // current volume (m^3) the point represents
   View<double*> bulk_viscosity;    // last artificial viscous pressure q (Pa)
-  // State of laws that keep one beyond stress and epeq (materials.hpp, HjcState: hjc's damage,
-  // volumetric strain and largest volumetric strain); empty when no material has one.
+  // State of laws that keep one beyond stress and epeq (materials.hpp, kLawStateSize values:
+  // HjcState, JohnsonCookState); empty when no material has one.
   View<double* [3]> law_state;
   // Per element.
   ColumnView<double* [2]> hourglass_disp;   // stiffness-form hourglass generalized displacement (m)

@@ -225,6 +225,38 @@ TEST(CaseParse, HjcConcreteTakesThePapersSymbols) {
   EXPECT_NEAR(m.youngs_modulus / (2 * (1 + m.poisson_ratio)), G, 1e-6 * G);
 }
 
+// OFHC copper in the symbols of Johnson & Cook (1983, 1985), with the defaults of the optional
+// constants (room temperature 293 K, reference rate 1/s, isothermal, Taylor-Quinney 0.9).
+TEST(CaseParse, JohnsonCookTakesThePapersSymbols) {
+  const Case c = parse_case(R"([simulation]
+end_time = 1e-5
+[[material]]
+name = "copper"
+model = "johnson_cook"
+density = 8960.0
+youngs_modulus = 124e9
+poisson_ratio = 0.34
+johnson_cook = { A = 90e6, B = 292e6, n = 0.31, C = 0.025, m = 1.09, melting_temperature = 1356.0, D1 = 0.54, D2 = 4.89, D3 = -3.03, D4 = 0.014, D5 = 1.12 }
+[[body]]
+name = "rod"
+material = "copper"
+cell_size = 1e-3
+shape = { type = "rectangle", x = 0.0, y = 0.0, width = 0.01, height = 0.01 }
+)",
+                            "mem.toml");
+  const Material& m = c.materials[0];
+  ASSERT_EQ(m.model, MaterialModel::johnson_cook);
+  EXPECT_DOUBLE_EQ(m.jc.a, 90e6);
+  EXPECT_DOUBLE_EQ(m.jc.n, 0.31);
+  EXPECT_DOUBLE_EQ(m.jc.t_melt, 1356.0);
+  EXPECT_DOUBLE_EQ(m.jc.t_room, 293.0);
+  EXPECT_DOUBLE_EQ(m.jc.eps0, 1.0);
+  EXPECT_DOUBLE_EQ(m.jc.specific_heat, 0.0);
+  EXPECT_DOUBLE_EQ(m.jc.taylor_quinney, 0.9);
+  EXPECT_DOUBLE_EQ(m.jc.d3, -3.03);
+  EXPECT_DOUBLE_EQ(m.conversion_damage, 1.0);
+}
+
 TEST(CaseParse, ToString) {
   EXPECT_STREQ(to_string(Formulation::plane_stress), "plane_stress");
   EXPECT_STREQ(to_string(MaterialModel::mohr_coulomb), "mohr_coulomb");
@@ -314,6 +346,8 @@ const BadCase kBadCases[] = {
     {"hjc_plane_stress.toml", 9, "material['concrete'].model", "needs simulation.formulation"},
     {"hjc_soft_lock.toml", 12, "material['concrete'].hjc.K1",
      "must be at least the slope of the crush line"},
+    {"johnson_cook_damage_without_failure.toml", 12, "material['copper'].conversion_damage",
+     "needs the failure constants D1..D5"},
 };
 
 INSTANTIATE_TEST_SUITE_P(CaseFiles, CaseBadFile, ::testing::ValuesIn(kBadCases),

@@ -1020,3 +1020,118 @@ TEST(MaterialHjc, WaveSpeedFollowsTheUnloadingModulus) {
   EXPECT_NEAR(fracta::hjc_wave_speed(pt.m, pt.state),
               std::sqrt(((1 - F) * Ke + F * kK1 + 4.0 / 3.0 * kG) / rho), 1e-9);
 }
+
+// ---------------------------------------------------------------------------------------------
+// johnson_cook: OFHC copper as Johnson & Cook (1983) give it (A 90 MPa, B 292 MPa, n 0.31,
+// C 0.025, m 1.09, T_melt 1356 K) and its fracture constants (Johnson & Cook 1985: D1 0.54,
+// D2 4.89, D3 -3.03, D4 0.014, D5 1.12). Expected values are the model's closed forms.
+// ---------------------------------------------------------------------------------------------
+
+struct JcPoint {
+  MaterialLaw m;
+  double s[4] = {0, 0, 0, 0};
+  double epeq = 0;
+  double state[3] = {0, 0, 0};
+  double step(double exx, double eyy, double exy, double rate = 0.0) {
+    const double d[3] = {exx, eyy, exy};
+    return fracta::detail::jc_update(m, d, 0.0, s, epeq, state, rate);
+  }
+};
+
+MaterialLaw ofhc_copper(double specific_heat = 0.0, bool failure = false) {
+  MaterialLaw m = fracta::make_material_law(fracta::kJohnsonCook, true, 8960.0, 124e9, 0.34);
+  fracta::JohnsonCookParams& j = m.jc;
+  j.a = 90e6, j.b = 292e6, j.n = 0.31, j.c = 0.025, j.m = 1.09;
+  j.t_room = 294.0, j.t_melt = 1356.0, j.eps0 = 1.0;
+  j.specific_heat = specific_heat, j.taylor_quinney = 0.9;
+  if (failure) j.d1 = 0.54, j.d2 = 4.89, j.d3 = -3.03, j.d4 = 0.014, j.d5 = 1.12;
+  fracta::cache_derived(m);
+  return m;
+}
+
+double jc_hardening(double ep) {
+  return 90e6 + 292e6 * std::pow(ep, 0.31);
+}
+
+TEST(MaterialJohnsonCook, PureShearFollowsTheHardeningCurve) {
+  JcPoint pt{ofhc_copper()};
+  int plastic = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const double ep_old = pt.epeq;
+    const double work = pt.step(1e-4, -1e-4, 0.0);
+    if (pt.epeq == ep_old) continue;
+    ++plastic;
+    EXPECT_NEAR(von_mises(pt.s), jc_hardening(pt.epeq), 1e-10 * 90e6) << "step " << i;
+    EXPECT_NEAR(work, von_mises(pt.s) * (pt.epeq - ep_old), 1e-12 * 90e6);
+  }
+  EXPECT_GT(plastic, 1900);
+  EXPECT_GT(pt.epeq, 0.2);
+  EXPECT_EQ(pt.state[fracta::kJcHeating], 0.0);  // isothermal (no specific heat)
+}
+
+TEST(MaterialJohnsonCook, OneLargeStepLandsOnTheSurface) {
+  JcPoint pt{ofhc_copper()};
+  pt.step(0.05, -0.05, 0.02);
+  ASSERT_GT(pt.epeq, 0.0);
+  EXPECT_NEAR(von_mises(pt.s), jc_hardening(pt.epeq), 1e-10 * 90e6);
+  // q_trial - 3 G d_ep = q: the return is radial from the elastic trial.
+  const double G = pt.m.shear_modulus;
+  const double q_trial = 2.0 * G *
+                         std::sqrt(1.5 * (2 * 0.05 * 0.05 + 2 * 0.02 * 0.02) -
+                                   0.0);  // deviatoric trial of a traceless increment
+  EXPECT_NEAR(von_mises(pt.s) + 3.0 * G * pt.epeq, q_trial, 1e-9 * q_trial);
+}
+
+TEST(MaterialJohnsonCook, StrainRateRaisesTheFlowStressByOnePlusCLnRate) {
+  for (const double rate : {0.5, 1.0, 100.0, 1e4}) {
+    JcPoint pt{ofhc_copper()};
+    for (int i = 0; i < 300; ++i) pt.step(1e-4, -1e-4, 0.0, rate);
+    ASSERT_GT(pt.epeq, 0.0);
+    const double factor = rate > 1.0 ? 1.0 + 0.025 * std::log(rate) : 1.0;
+    EXPECT_NEAR(von_mises(pt.s), jc_hardening(pt.epeq) * factor, 1e-10 * 90e6) << rate;
+  }
+}
+
+TEST(MaterialJohnsonCook, AdiabaticHeatingSoftensByTheTemperatureTerm) {
+  const double cp = 383.0, rho = 8960.0, chi = 0.9;
+  JcPoint pt{ofhc_copper(cp)};
+  double plastic_work = 0.0;
+  for (int i = 0; i < 3000; ++i) {
+    const double ep_old = pt.epeq, heat_old = pt.state[fracta::kJcHeating];
+    plastic_work += pt.step(2e-4, -2e-4, 0.0);
+    if (pt.epeq == ep_old) continue;
+    // The flow stress at the step's start temperature (Eq. 1: 1 - T*^m) ...
+    const double t_star = heat_old / (1356.0 - 294.0);
+    const double thermal = t_star > 0 ? 1.0 - std::pow(t_star, 1.09) : 1.0;
+    EXPECT_NEAR(von_mises(pt.s), jc_hardening(pt.epeq) * thermal, 1e-10 * 90e6) << "step " << i;
+  }
+  // ... and the heating is chi / (rho c_p) times the plastic work.
+  EXPECT_NEAR(pt.state[fracta::kJcHeating], chi * plastic_work / (rho * cp), 1e-9);
+  EXPECT_GT(pt.state[fracta::kJcHeating], 50.0);
+}
+
+TEST(MaterialJohnsonCook, DamageIsThePlasticStrainOverTheFailureStrain) {
+  // Pure shear at zero pressure: triaxiality 0, so eps_f = D1 + D2 (quasi-static, isothermal),
+  // and D = eps_p / (D1 + D2) until it reaches 1.
+  JcPoint pt{ofhc_copper(0.0, true)};
+  for (int i = 0; i < 20000 && pt.state[fracta::kLawDamage] < 1.0; ++i) {
+    pt.step(5e-4, -5e-4, 0.0);
+    EXPECT_NEAR(pt.state[fracta::kLawDamage], std::min(pt.epeq / (0.54 + 4.89), 1.0), 1e-9);
+  }
+  EXPECT_EQ(pt.state[fracta::kLawDamage], 1.0);
+  // Under confinement (triaxiality sigma* < 0) the failure strain grows: D1 + D2 exp(D3 sigma*).
+  JcPoint confined{ofhc_copper(0.0, true)};
+  const double d0[3] = {-1e-3, -1e-3, 0.0};
+  fracta::detail::jc_update(confined.m, d0, -1e-3, confined.s, confined.epeq, confined.state, 0.0);
+  ASSERT_EQ(confined.epeq, 0.0);
+  for (int i = 0; i < 200; ++i) {
+    const double d_old = confined.state[fracta::kLawDamage], ep_old = confined.epeq;
+    confined.step(1e-4, -1e-4, 0.0);
+    if (confined.epeq == ep_old) continue;
+    const double p = (confined.s[0] + confined.s[1] + confined.s[2]) / 3.0;
+    const double eps_f = 0.54 + 4.89 * std::exp(-3.03 * p / von_mises(confined.s));
+    EXPECT_NEAR(confined.state[fracta::kLawDamage], d_old + (confined.epeq - ep_old) / eps_f,
+                1e-12);
+    EXPECT_GT(eps_f, 0.54 + 4.89);
+  }
+}

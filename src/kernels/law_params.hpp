@@ -1,5 +1,6 @@
-// Constants of the Holmquist-Johnson-Cook concrete law (materials.hpp, model kHjc): plain data,
-// shared by the case file reader (host/case.hpp) and the kernels.
+// Constants of the laws with many of them (materials.hpp: Holmquist-Johnson-Cook concrete, model
+// kHjc; Johnson-Cook metal, model kJohnsonCook): plain data, shared by the case file reader
+// (host/case.hpp) and the kernels.
 #pragma once
 
 namespace fracta {
@@ -18,6 +19,20 @@ struct HjcParams {
   double p_crush = 0, mu_crush = 0;   // end of the elastic part of the EOS
   double p_lock = 0, mu_lock = 0;     // start of the fully dense part
   double k1 = 0, k2 = 0, k3 = 0;      // fully dense P(mu_bar)
+};
+
+// Johnson-Cook plasticity (Johnson & Cook 1983, 7th Int. Symp. Ballistics) and fracture
+// (Johnson & Cook 1985, Eng. Fract. Mech. 21): flow stress, failure strain, adiabatic heating
+// (docs/physics.md 1.1, "johnson_cook"). Stresses in Pa, temperatures in K.
+struct JohnsonCookParams {
+  double a = 0, b = 0, n = 1;  // sigma_y = (A + B eps_p^n) [1 + C ln(eps_dot*)] (1 - T*^m)
+  double c = 0, m = 1;
+  double eps0 = 1.0;                              // reference strain rate (1/s)
+  double t_room = 293.0;                          // K, T* = (T - t_room) / (t_melt - t_room)
+  double t_melt = 0;                              // K
+  double specific_heat = 0;                       // J/(kg K); 0: isothermal (no adiabatic heating)
+  double taylor_quinney = 0.9;                    // share of the plastic work that heats
+  double d1 = 0, d2 = 0, d3 = 0, d4 = 0, d5 = 0;  // failure strain; all 0: none
 };
 
 }  // namespace fracta

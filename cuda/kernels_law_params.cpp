@@ -1,7 +1,7 @@
-// CUDA check unit for src/kernels/hjc_params.hpp: plain data, copied by value into a device
+// CUDA check unit for src/kernels/law_params.hpp: plain data, copied by value into a device
 // kernel (the hjc law itself is checked with materials.hpp).
 #include "kernels/compat.hpp"
-#include "kernels/hjc_params.hpp"
+#include "kernels/law_params.hpp"
 
 namespace fracta::cuda_check {
 
