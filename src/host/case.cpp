@@ -812,11 +812,7 @@ Material read_material(const Reader& r, Names& names, Formulation formulation) {
     m.youngs_modulus = r.number("youngs_modulus", Range::gt(0));
     m.poisson_ratio = r.number("poisson_ratio", Range::gt(-1).lt(0.5));
   }
-  if (jc) {
-    if (formulation != Formulation::plane_strain)
-      r.fail("model", "\"johnson_cook\" needs simulation.formulation = \"plane_strain\"");
-    read_johnson_cook(r, m);
-  }
+  if (jc) read_johnson_cook(r, m);
   // hjc: its damage says when the concrete has fractured; its plastic strain under confinement
   // grows far beyond 0.02 without (the strain to fracture D1 (P* + T*)^D2 reaches 1 at
   // P* = 25), so the default converts by damage and leaves the plastic strain to flow.

@@ -497,8 +497,11 @@ struct FeForces {
                                                       double& epeq, T& wave_speed) const {
     const double lxx = get_lane(l[0], k), lyy = get_lane(l[3], k);
     const double dxy = 0.5 * (get_lane(l[1], k) + get_lane(l[2], k));
-    const double mean = (lxx + lyy) / 3.0;  // d_zz = 0: plane strain
-    const double d0 = lxx - mean, d1 = lyy - mean, d2 = -mean;
+    // d_zz: 0 in plane strain; in plane stress that of isochoric (plastic) flow, -(d_xx + d_yy),
+    // the flow whose rate the laws' rate terms act on.
+    const double dzz = mat.plane_strain ? 0.0 : -(lxx + lyy);
+    const double mean = (lxx + lyy + dzz) / 3.0;
+    const double d0 = lxx - mean, d1 = lyy - mean, d2 = dzz - mean;
     const double rate = sqrt_(2.0 / 3.0 * (d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * dxy * dxy));
     double state[kLawStateSize];
     for (int c = 0; c < kLawStateSize; ++c) state[c] = elements.law_state(q, c);

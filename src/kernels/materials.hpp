@@ -405,45 +405,37 @@ KOKKOS_INLINE_FUNCTION void elastic_increment_3d(const MaterialLaw& m, const dou
   s[3] += 2.0 * G * deps[2];
 }
 
-// One 3D Mohr-Coulomb update from (s0, ep0) with the eps_zz increment x; the result goes to
-// st, ept, diss and sigma_zz is returned.
-KOKKOS_INLINE_FUNCTION double mohr_coulomb_eps_zz_trial(const MaterialLaw& m, const double deps[3],
-                                                        double x, const double s0[4], double ep0,
-                                                        double st[4], double& ept, double& diss) {
-  for (int i = 0; i < 4; ++i) st[i] = s0[i];
-  ept = ep0;
-  elastic_increment_3d(m, deps, x, st);
-  diss = mohr_coulomb_return_3d(m, st, ept);
-  return st[2];
-}
-
-// Plane stress Mohr-Coulomb: the 3D update above with an unknown eps_zz increment x, solved for
-// sigma_zz(x) = 0 (the plane-stress condition). sigma_zz(x) is continuous and non-decreasing:
-// elastic and cut-off states have an elastic (Schur-complement) slope > 0; on the cone it is
-// >= K (1 - 2 sqrt(3) alpha) > 0 because alpha = sin(phi)/3 < 1/(2 sqrt(3)); it is flat (at the
-// cap) only when the cut-off also holds sigma_zz, which is away from the root sigma_zz = 0.
-// Start from the elastic guess x = -lambda/(lambda+2G) (dxx + dyy) (exact for an elastic step,
-// so elastic steps cost one evaluation). Bracket the root by secant steps, at least doubling
-// the step while the sign does not change (plateaus and soft plastic tangents), then refine
-// with the Illinois variant of regula falsi (guaranteed, superlinear). The converged s[2]
-// (|s_zz| <= 1e-13 of the stress scale) is then set to exactly 0.
-KOKKOS_INLINE_FUNCTION double mohr_coulomb_plane_stress(const MaterialLaw& m, const double deps[3],
-                                                        double s[4], double& epeq) {
-  const double s0[4] = {s[0], s[1], 0.0, s[3]};
+// Plane stress for a 3D law: the law's 3D update with an unknown eps_zz increment x, solved
+// for sigma_zz(x) = 0 (the plane-stress condition). trial(x, st) runs the update from the
+// point's start state with the increment x, leaves the stress in st and keeps the rest of the
+// result (plastic strain, state, dissipation) itself, and returns sigma_zz. sigma_zz(x) must be
+// continuous and non-decreasing (so for Mohr-Coulomb: elastic and cut-off states have an
+// elastic (Schur-complement) slope > 0; on the cone it is >= K (1 - 2 sqrt(3) alpha) > 0
+// because alpha = sin(phi)/3 < 1/(2 sqrt(3)); it is flat (at the cap) only when the cut-off
+// also holds sigma_zz, which is away from the root sigma_zz = 0; for J2 laws the slope is at
+// least that of the bulk modulus). Start from the elastic guess x = -lambda/(lambda+2G)
+// (dxx + dyy) (exact for an elastic step, so elastic steps cost one evaluation). Bracket the
+// root by secant steps, at least doubling the step while the sign does not change (plateaus and
+// soft plastic tangents), then refine with the Illinois variant of regula falsi (guaranteed,
+// superlinear). stress_scale: a stress of the law (its strengths) for the tolerance, 1e-13 of
+// the stresses in play. The converged st (|s_zz| <= that tolerance) goes to s with s[2] = 0
+// exactly; the last trial evaluated is the converged one, so the law's other results are too.
+template <class Trial>
+KOKKOS_INLINE_FUNCTION void solve_plane_stress(const MaterialLaw& m, const double deps[3],
+                                               const double s0[4], double stress_scale, double s[4],
+                                               Trial& trial) {
   const double Ee = m.lame_lambda + 2.0 * m.shear_modulus;
-  double st[4], ept, diss;
+  double st[4];
   double xa = -m.lame_lambda / Ee * (deps[0] + deps[1]);
-  double ga = mohr_coulomb_eps_zz_trial(m, deps, xa, s0, epeq, st, ept, diss);
-  double alpha, k;
-  drucker_prager_constants(m, alpha, k);
+  double ga = trial(xa, st);
   const double tol = 1e-13 * (fabs_(st[0]) + fabs_(st[1]) + fabs_(st[3]) + fabs_(s0[0]) +
-                              fabs_(s0[1]) + fabs_(s0[3]) + fabs_(k) + m.tensile_strength);
+                              fabs_(s0[1]) + fabs_(s0[3]) + stress_scale);
   if (fabs_(ga) > tol) {
     double h = -ga / Ee, xb = xa, gb = ga;
     bool bracketed = false;
     for (int it = 0; it < 80; ++it) {
       xb = xa + h;
-      gb = mohr_coulomb_eps_zz_trial(m, deps, xb, s0, epeq, st, ept, diss);
+      gb = trial(xb, st);
       if (fabs_(gb) <= tol) break;
       if ((gb < 0.0) != (ga < 0.0)) {
         bracketed = true;
@@ -457,7 +449,7 @@ KOKKOS_INLINE_FUNCTION double mohr_coulomb_plane_stress(const MaterialLaw& m, co
     }
     for (int it = 0; bracketed && it < 200; ++it) {
       const double xc = (xa * gb - xb * ga) / (gb - ga);
-      const double gc = mohr_coulomb_eps_zz_trial(m, deps, xc, s0, epeq, st, ept, diss);
+      const double gc = trial(xc, st);
       if (fabs_(gc) <= tol) break;
       if ((gc < 0.0) != (gb < 0.0)) {
         xa = xb;
@@ -472,8 +464,34 @@ KOKKOS_INLINE_FUNCTION double mohr_coulomb_plane_stress(const MaterialLaw& m, co
   }
   for (int i = 0; i < 4; ++i) s[i] = st[i];
   s[2] = 0.0;
-  epeq = ept;
-  return diss;
+}
+
+// The Mohr-Coulomb trial of solve_plane_stress: one 3D update from (s0, ep0) with the eps_zz
+// increment x; its epeq and dissipation are kept in ept and diss.
+struct MohrCoulombEpsZzTrial {
+  const MaterialLaw& m;
+  const double* deps;
+  const double* s0;
+  double ep0, ept, diss;
+  KOKKOS_INLINE_FUNCTION double operator()(double x, double st[4]) {
+    for (int i = 0; i < 4; ++i) st[i] = s0[i];
+    ept = ep0;
+    elastic_increment_3d(m, deps, x, st);
+    diss = mohr_coulomb_return_3d(m, st, ept);
+    return st[2];
+  }
+};
+
+// Plane stress Mohr-Coulomb: solve_plane_stress with the 3D Mohr-Coulomb update.
+KOKKOS_INLINE_FUNCTION double mohr_coulomb_plane_stress(const MaterialLaw& m, const double deps[3],
+                                                        double s[4], double& epeq) {
+  const double s0[4] = {s[0], s[1], 0.0, s[3]};
+  double alpha, k;
+  drucker_prager_constants(m, alpha, k);
+  MohrCoulombEpsZzTrial trial{m, deps, s0, epeq, epeq, 0.0};
+  solve_plane_stress(m, deps, s0, fabs_(k) + m.tensile_strength, s, trial);
+  epeq = trial.ept;
+  return trial.diss;
 }
 
 KOKKOS_INLINE_FUNCTION double mohr_coulomb_update(const MaterialLaw& m, const double deps[3],
@@ -629,9 +647,9 @@ KOKKOS_INLINE_FUNCTION double hjc_update(const MaterialLaw& m, const double deps
 }
 
 // ---------------------------------------------------------------------------------------------
-// johnson_cook: Johnson-Cook plasticity and fracture (JohnsonCookParams). Plane strain, on the
-// 3D stress {xx, yy, zz, xy}: J2 radial return onto the flow stress at the step's strain rate
-// and start temperature. State per point: JohnsonCookState.
+// johnson_cook: Johnson-Cook plasticity and fracture (JohnsonCookParams). On the 3D stress
+// {xx, yy, zz, xy}: J2 radial return onto the flow stress at the step's strain rate and start
+// temperature; plane stress through solve_plane_stress. State per point: JohnsonCookState.
 // ---------------------------------------------------------------------------------------------
 
 // Flow stress (Johnson & Cook 1983, Eq. 1): (A + B eps_p^n) [1 + C ln(eps_dot*)] (1 - T*^m),
@@ -709,6 +727,37 @@ KOKKOS_INLINE_FUNCTION double jc_update(const MaterialLaw& m, const double deps[
       jc_fracture_strain(j, q_new > 0.0 ? p / q_new : 0.0, strain_rate, heating);
   if (fracture > 0.0) state[0] = min_(state[0] + dp / fracture, 1.0);
   return q_new * dp;
+}
+
+// The Johnson-Cook trial of solve_plane_stress: jc_update from the start state (s0, ep0, state0)
+// with the eps_zz increment x; epeq, state and plastic work kept.
+struct JohnsonCookEpsZzTrial {
+  const MaterialLaw& m;
+  const double* deps;
+  const double* s0;
+  double ep0, state0[3], strain_rate;
+  double ept, state[3], work;
+  KOKKOS_INLINE_FUNCTION double operator()(double x, double st[4]) {
+    for (int i = 0; i < 4; ++i) st[i] = s0[i];
+    for (int i = 0; i < 3; ++i) state[i] = state0[i];
+    ept = ep0;
+    work = jc_update(m, deps, x, st, ept, state, strain_rate);
+    return st[2];
+  }
+};
+
+// Plane stress Johnson-Cook: solve_plane_stress with jc_update (sigma_zz rises with the eps_zz
+// increment at least at the bulk modulus's rate: the J2 return leaves the pressure alone).
+KOKKOS_INLINE_FUNCTION double jc_plane_stress(const MaterialLaw& m, const double deps[3],
+                                              double s[4], double& epeq, double state[3],
+                                              double strain_rate) {
+  const double s0[4] = {s[0], s[1], 0.0, s[3]};
+  JohnsonCookEpsZzTrial trial{
+      m, deps, s0, epeq, {state[0], state[1], state[2]}, strain_rate, epeq, {0.0, 0.0, 0.0}, 0.0};
+  solve_plane_stress(m, deps, s0, m.jc.a + m.jc.b, s, trial);
+  epeq = trial.ept;
+  for (int i = 0; i < 3; ++i) state[i] = trial.state[i];
+  return trial.work;
 }
 
 }  // namespace detail
@@ -812,7 +861,9 @@ KOKKOS_INLINE_FUNCTION double update_stress_with_state(const MaterialLaw& m, con
                                                        double s[4], double& epeq, double state[3],
                                                        double strain_rate) {
   if (m.model == kHjc) return detail::hjc_update(m, deps, 0.0, s, epeq, state, strain_rate);
-  if (m.model == kJohnsonCook) return detail::jc_update(m, deps, 0.0, s, epeq, state, strain_rate);
+  if (m.model == kJohnsonCook)
+    return m.plane_strain ? detail::jc_update(m, deps, 0.0, s, epeq, state, strain_rate)
+                          : detail::jc_plane_stress(m, deps, s, epeq, state, strain_rate);
   return update_stress(m, deps, s, epeq);
 }
 

@@ -257,6 +257,25 @@ shape = { type = "rectangle", x = 0.0, y = 0.0, width = 0.01, height = 0.01 }
   EXPECT_DOUBLE_EQ(m.conversion_damage, 1.0);
 }
 
+// The material cards of cases/materials/ load, with the papers' constants.
+TEST(CaseParse, MaterialCardsLoad) {
+  const std::string dir = std::string(FRACTA_SOURCE_DIR) + "/cases/materials/";
+  const Case copper = load_case(dir + "ofhc_copper.toml");
+  EXPECT_EQ(copper.materials[0].model, MaterialModel::johnson_cook);
+  EXPECT_DOUBLE_EQ(copper.materials[0].jc.a, 90e6);
+  EXPECT_DOUBLE_EQ(copper.materials[0].jc.t_melt, 1356.0);
+  const Case iron = load_case(dir + "armco_iron.toml");
+  EXPECT_DOUBLE_EQ(iron.materials[0].jc.b, 380e6);
+  EXPECT_DOUBLE_EQ(iron.materials[0].jc.d1, -2.20);
+  const Case steel = load_case(dir + "steel_4340.toml");
+  EXPECT_DOUBLE_EQ(steel.materials[0].jc.a, 792e6);
+  EXPECT_DOUBLE_EQ(steel.materials[0].jc.n, 0.26);
+  const Case concrete = load_case(dir + "concrete_48mpa_hjc.toml");
+  EXPECT_EQ(concrete.materials[0].model, MaterialModel::hjc);
+  EXPECT_DOUBLE_EQ(concrete.materials[0].hjc.fc, 48e6);
+  EXPECT_DOUBLE_EQ(concrete.materials[0].hjc.k3, 208e9);
+}
+
 TEST(CaseParse, ToString) {
   EXPECT_STREQ(to_string(Formulation::plane_stress), "plane_stress");
   EXPECT_STREQ(to_string(MaterialModel::mohr_coulomb), "mohr_coulomb");

@@ -1135,3 +1135,38 @@ TEST(MaterialJohnsonCook, DamageIsThePlasticStrainOverTheFailureStrain) {
     EXPECT_GT(eps_f, 0.54 + 4.89);
   }
 }
+
+// Plane stress (solve_plane_stress around jc_update): uniaxial tension sigma_xx with
+// sigma_yy = 0 held by a free lateral strain. Each step's lateral strain increment is found by
+// the same secant as sigma_zz: bisection here on sigma_yy(e_yy) = 0 (exact to 1e-9 of A). Then
+// sigma_xx is the von Mises stress, equal to the hardening curve at the plastic strain, and
+// sigma_zz is exactly 0.
+TEST(MaterialJohnsonCook, PlaneStressUniaxialTensionFollowsTheHardeningCurve) {
+  MaterialLaw m = ofhc_copper();
+  m.plane_strain = 0;
+  fracta::cache_derived(m);
+  double s[4] = {0, 0, 0, 0}, ep = 0, state[3] = {0, 0, 0};
+  int plastic = 0;
+  for (int i = 0; i < 300; ++i) {
+    double lo = -2e-4, hi = 2e-4, s_try[4], ep_try = 0, state_try[3];
+    for (int it = 0; it < 200; ++it) {
+      const double eyy = 0.5 * (lo + hi);
+      for (int k = 0; k < 4; ++k) s_try[k] = s[k];
+      for (int k = 0; k < 3; ++k) state_try[k] = state[k];
+      ep_try = ep;
+      const double d[3] = {2e-4, eyy, 0.0};
+      fracta::update_stress_with_state(m, d, s_try, ep_try, state_try, 0.0);
+      (s_try[1] > 0.0 ? hi : lo) = eyy;
+    }
+    const double ep_old = ep;
+    for (int k = 0; k < 4; ++k) s[k] = s_try[k];
+    for (int k = 0; k < 3; ++k) state[k] = state_try[k];
+    ep = ep_try;
+    ASSERT_EQ(s[2], 0.0);
+    ASSERT_NEAR(s[1], 0.0, 1e-6 * 90e6);
+    if (ep == ep_old) continue;
+    ++plastic;
+    EXPECT_NEAR(s[0], jc_hardening(ep), 1e-6 * 90e6) << "step " << i;
+  }
+  EXPECT_GT(plastic, 250);
+}
