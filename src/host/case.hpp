@@ -91,6 +91,10 @@ struct Material {
   double weibull_modulus = 0;  // m of the bonds' strength factors (unit mean); 0 = uniform
   double strength_spread = 0;  // or factors uniform on [1 - spread, 1 + spread]
   bool random_strength() const { return weibull_modulus > 0.0 || strength_spread > 0.0; }
+  // Its law keeps a state per point (Elements::law_state): hjc, johnson_cook.
+  bool keeps_law_state() const {
+    return model == MaterialModel::hjc || model == MaterialModel::johnson_cook;
+  }
   // Dynamic increase factors of the bond strength and fracture energy against the bond's strain
   // rate (1/s, increasing); empty = rate independent.
   struct RateTable {

@@ -99,9 +99,8 @@ MemoryEstimate estimate_memory(const Case& c) {
       c.bodies.size() > 1 || std::any_of(c.bodies.begin(), c.bodies.end(), body_has_lattice);
   const int qp = c.sim.integration == Integration::full ? 4 : 1;
   // Allocated for every point of the mesh when any material keeps a state (model.cpp).
-  const bool law_state = std::any_of(c.materials.begin(), c.materials.end(), [](const Material& m) {
-    return m.model == MaterialModel::hjc || m.model == MaterialModel::johnson_cook;
-  });
+  const bool law_state = std::any_of(c.materials.begin(), c.materials.end(),
+                                     [](const Material& m) { return m.keeps_law_state(); });
   double largest = -1;
   for (size_t i = 0; i < c.bodies.size(); ++i) {
     const BodyGrid g = body_grid(c.bodies[i]);

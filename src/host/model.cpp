@@ -863,9 +863,8 @@ Model build_model(const Case& c) {
   el.bulk_viscosity = View<double*>("fracta::qp_bulk_viscosity", static_cast<size_t>(ne) * qp);
   // The state of laws that keep one (hjc, johnson_cook), zero: intact, at rest density, at room
   // temperature.
-  if (std::any_of(c.materials.begin(), c.materials.end(), [](const Material& mat) {
-        return mat.model == MaterialModel::hjc || mat.model == MaterialModel::johnson_cook;
-      }))
+  if (std::any_of(c.materials.begin(), c.materials.end(),
+                  [](const Material& mat) { return mat.keeps_law_state(); }))
     el.law_state = View<double* [3]>("fracta::qp_law_state", static_cast<size_t>(ne) * qp);
   el.hourglass_disp = decltype(el.hourglass_disp)("fracta::element_hourglass_disp", ne);
   el.hourglass_force = decltype(el.hourglass_force)("fracta::element_hourglass_force", ne);

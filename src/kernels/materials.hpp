@@ -631,8 +631,10 @@ KOKKOS_INLINE_FUNCTION double hjc_update(const MaterialLaw& m, const double deps
     for (int k = 0; k < 4; ++k) d[k] *= f;
     work += yield * dep;
   }
-  const double dmu_p =
-      hjc_plastic_volumetric_strain(h, mu_max) - hjc_plastic_volumetric_strain(h, mu_max_old);
+  // Crushing only while mu_max grows (most steps it does not: no envelope to evaluate).
+  const double dmu_p = mu_max > mu_max_old ? hjc_plastic_volumetric_strain(h, mu_max) -
+                                                 hjc_plastic_volumetric_strain(h, mu_max_old)
+                                           : 0.0;
   work += max_(p, 0.0) * dmu_p / (1.0 + mu);
   damage = min_(damage + (dep + dmu_p) / hjc_fracture_strain(h, p), 1.0);
   s[0] = d[0] - p;
@@ -655,13 +657,20 @@ KOKKOS_INLINE_FUNCTION double hjc_update(const MaterialLaw& m, const double deps
 // Flow stress (Johnson & Cook 1983, Eq. 1): (A + B eps_p^n) [1 + C ln(eps_dot*)] (1 - T*^m),
 // eps_dot* = eps_dot / eps0 (no rate term below eps0), T* = dT / (t_melt - t_room) for a point
 // heated by dT above room temperature (0 at or below it; no strength at the melting point).
-KOKKOS_INLINE_FUNCTION double jc_flow_stress(const JohnsonCookParams& j, double ep,
-                                             double strain_rate, double heating) {
-  const double hardening = j.a + (ep > 0.0 ? j.b * pow_(ep, j.n) : 0.0);
+// jc_rate_thermal_factor: the last two brackets, which do not depend on eps_p.
+KOKKOS_INLINE_FUNCTION double jc_rate_thermal_factor(const JohnsonCookParams& j, double strain_rate,
+                                                     double heating) {
   const double rate = strain_rate > j.eps0 ? 1.0 + j.c * log_(strain_rate / j.eps0) : 1.0;
   const double t_star = j.t_melt > j.t_room ? heating / (j.t_melt - j.t_room) : 0.0;
   const double thermal = t_star <= 0.0 ? 1.0 : t_star >= 1.0 ? 0.0 : 1.0 - pow_(t_star, j.m);
-  return hardening * rate * thermal;
+  return rate * thermal;
+}
+KOKKOS_INLINE_FUNCTION double jc_hardening(const JohnsonCookParams& j, double ep) {
+  return j.a + (ep > 0.0 ? j.b * pow_(ep, j.n) : 0.0);
+}
+KOKKOS_INLINE_FUNCTION double jc_flow_stress(const JohnsonCookParams& j, double ep,
+                                             double strain_rate, double heating) {
+  return jc_hardening(j, ep) * jc_rate_thermal_factor(j, strain_rate, heating);
 }
 
 // Equivalent plastic strain to fracture (Johnson & Cook 1985, Eq. 1):
@@ -691,10 +700,12 @@ KOKKOS_INLINE_FUNCTION double jc_update(const MaterialLaw& m, const double deps[
   double d[4] = {s[0] - p, s[1] - p, s[2] - p, s[3]};
   const double q = sqrt_(1.5 * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + 2.0 * d[3] * d[3]));
   const double heating = state[1];
-  if (!(q > jc_flow_stress(j, epeq, strain_rate, heating))) return 0.0;
+  const double factor = jc_rate_thermal_factor(j, strain_rate, heating);
+  if (!(q > jc_hardening(j, epeq) * factor)) return 0.0;
   double lo = 0.0, hi = q / (3.0 * G), dp = 0.0;
   for (int it = 0; it < 100; ++it) {
-    const double yield = jc_flow_stress(j, epeq + dp, strain_rate, heating);
+    const double ep = epeq + dp;
+    const double yield = jc_hardening(j, ep) * factor;
     const double g = q - 3.0 * G * dp - yield;
     if (fabs_(g) <= 1e-14 * q) break;
     if (g > 0.0) {
@@ -702,10 +713,10 @@ KOKKOS_INLINE_FUNCTION double jc_update(const MaterialLaw& m, const double deps[
     } else {
       hi = dp;
     }
-    // Slope of the flow stress by a one-sided difference (the closed form is unbounded at 0).
-    const double h = 1e-8 * (epeq + dp) + 1e-12;
-    const double slope = (jc_flow_stress(j, epeq + dp + h, strain_rate, heating) - yield) / h;
-    double next = dp + g / (3.0 * G + max_(slope, 0.0));
+    // Hardening slope B n eps_p^(n-1) (infinite at eps_p = 0: the step is then 0, outside the
+    // bracket, and bisection takes over).
+    const double slope = ep > 0.0 ? j.b * j.n * pow_(ep, j.n - 1.0) * factor : 1e300;
+    double next = dp + g / (3.0 * G + slope);
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
     if (fabs_(next - dp) <= 1e-15 * (epeq + next)) {
       dp = next;
@@ -766,7 +777,7 @@ KOKKOS_INLINE_FUNCTION double jc_plane_stress(const MaterialLaw& m, const double
 // damage D in [0, 1] first (the conversion criterion reads it, conversion_damage):
 //   hjc: D, volumetric strain mu = rho / rho0 - 1, and the largest mu reached;
 //   johnson_cook: D, the temperature rise above room temperature (K), unused.
-enum HjcState : int { kLawDamage = 0, kHjcDamage = 0, kHjcMu = 1, kHjcMuMax = 2 };
+enum HjcState : int { kLawDamage = 0, kHjcMu = 1, kHjcMuMax = 2 };
 enum JohnsonCookState : int { kJcHeating = 1 };
 constexpr int kLawStateSize = 3;
 

@@ -421,9 +421,9 @@ TEST(Conversion, HjcElementsConvertAtTheirConversionDamageOnly) {
     Model& model = sim.model();
     ASSERT_EQ(model.elements.law_state.extent(0), 16u);
     auto state = Kokkos::create_mirror_view_and_copy(HostSpace(), model.elements.law_state);
-    state(5, kHjcDamage) = 1.0;
-    state(6, kHjcDamage) = 0.99;
-    state(9, kHjcDamage) = 1.0;
+    state(5, kLawDamage) = 1.0;
+    state(6, kLawDamage) = 0.99;
+    state(9, kLawDamage) = 1.0;
     Kokkos::deep_copy(model.elements.law_state, state);
     // Element 10: a principal stress of 3 T, which converts a mohr_coulomb element by tension.
     auto stress = Kokkos::create_mirror_view_and_copy(HostSpace(), model.elements.stress);

@@ -901,7 +901,7 @@ TEST(MaterialHjc, HydrostaticTensionStopsAtT) {
   EXPECT_NEAR(pt.pressure(), -kT, 1e-9 * kT);
   // No crushing and no plastic strain beyond the round-off of a hydrostatic path (at the limit
   // the strength is 0, so a round-off deviator yields).
-  EXPECT_LT(pt.state[fracta::kHjcDamage], 1e-12);
+  EXPECT_LT(pt.state[fracta::kLawDamage], 1e-12);
 }
 
 // A dynamic increase factor (rate_dependence) raises the tension limit T with the factor.
@@ -930,7 +930,7 @@ TEST(MaterialHjc, ShearYieldsAtTheNormalisedStrengthAndDamageSoftensIt) {
   const double intact = kFc * (kA + kB * std::pow(p_star, kN));
   int plastic_steps = 0;
   for (int i = 0; i < 1200; ++i) {
-    const double d_old = pt.state[fracta::kHjcDamage], ep_old = pt.epeq;
+    const double d_old = pt.state[fracta::kLawDamage], ep_old = pt.epeq;
     pt.step(2e-5, -2e-5, 0.0, 0.0);
     EXPECT_NEAR(pt.pressure(), sp.p, 1e-9 * kFc);
     if (pt.epeq == ep_old) continue;
@@ -939,12 +939,12 @@ TEST(MaterialHjc, ShearYieldsAtTheNormalisedStrengthAndDamageSoftensIt) {
     const double yield = kFc * (kA * (1 - d_old) + kB * std::pow(p_star, kN));
     EXPECT_NEAR(von_mises(pt.s), yield, 1e-9 * kFc) << "step " << i;
     // ... and the damage grows by d eps_p / (D1 (P* + T*)^D2) (Eq. 2-3), to at most 1.
-    EXPECT_NEAR(pt.state[fracta::kHjcDamage], std::min(d_old + (pt.epeq - ep_old) / ef, 1.0),
+    EXPECT_NEAR(pt.state[fracta::kLawDamage], std::min(d_old + (pt.epeq - ep_old) / ef, 1.0),
                 1e-12);
   }
   EXPECT_GT(plastic_steps, 100);
   // Fully damaged: only the pressure term is left (Eq. 1 with D = 1).
-  EXPECT_EQ(pt.state[fracta::kHjcDamage], 1.0);
+  EXPECT_EQ(pt.state[fracta::kLawDamage], 1.0);
   EXPECT_NEAR(von_mises(pt.s), kFc * kB * std::pow(p_star, kN), 1e-9 * kFc);
   EXPECT_LT(von_mises(pt.s), 0.6 * intact);
 }
@@ -1007,7 +1007,7 @@ TEST(MaterialHjc, CrushingDamagesByThePlasticVolumetricStrain) {
   }
   ASSERT_GT(damage, 0.01);
   // The law uses each step's end pressure: first order in the step, about 1e-4 of D here.
-  EXPECT_NEAR(pt.state[fracta::kHjcDamage], damage, 1e-3 * damage);
+  EXPECT_NEAR(pt.state[fracta::kLawDamage], damage, 1e-3 * damage);
 }
 
 TEST(MaterialHjc, WaveSpeedFollowsTheUnloadingModulus) {
