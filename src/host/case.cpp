@@ -130,7 +130,8 @@ const char* name_of(const Choices<E>& choices, E value) {
 
 // The choice tables double as the to_string() tables (string literals, so data() is terminated).
 const Choices<Formulation> kFormulations = {{"plane_strain", Formulation::plane_strain},
-                                            {"plane_stress", Formulation::plane_stress}};
+                                            {"plane_stress", Formulation::plane_stress},
+                                            {"axisymmetric", Formulation::axisymmetric}};
 const Choices<MaterialModel> kModels = {{"elastic", MaterialModel::elastic},
                                         {"bilinear_j2", MaterialModel::bilinear_j2},
                                         {"mohr_coulomb", MaterialModel::mohr_coulomb},
@@ -607,6 +608,9 @@ SimulationParams read_simulation(const Reader& r) {
   s.formulation = r.choice("formulation", kFormulations, s.formulation);
   if (s.formulation == Formulation::plane_stress && !r.has("thickness"))
     r.fail("thickness", "required for formulation = \"plane_stress\"");
+  if (s.formulation == Formulation::axisymmetric && r.has("thickness"))
+    r.fail("thickness",
+           "does not apply to formulation = \"axisymmetric\" (the model is the full revolution)");
   s.thickness = r.number("thickness", Range::gt(0), s.thickness);
   s.end_time = r.number("end_time", Range::gt(0));
   s.dt_safety = r.number("dt_safety", Range::gt(0).le(1), s.dt_safety);
@@ -805,8 +809,9 @@ Material read_material(const Reader& r, Names& names, Formulation formulation) {
   m.tensile_strength = mc || hjc ? r.number("tensile_strength", Range::ge(0))
                                  : r.number("tensile_strength", Range::ge(0), 0.0);
   if (hjc) {
-    if (formulation != Formulation::plane_strain)
-      r.fail("model", "\"hjc\" needs simulation.formulation = \"plane_strain\"");
+    if (formulation == Formulation::plane_stress)
+      r.fail("model",
+             "\"hjc\" needs simulation.formulation = \"plane_strain\" or \"axisymmetric\"");
     read_hjc(r, m);
   } else {
     m.youngs_modulus = r.number("youngs_modulus", Range::gt(0));
@@ -1088,6 +1093,28 @@ void read_case(const Reader& r, Case& c) {
   const std::vector<Reader> body_entries = r.entries("body");
   for (const Reader& e : body_entries) c.bodies.push_back(read_body(e, bodies, materials));
   if (c.bodies.empty()) r.fail("body", "at least one [[body]] is required");
+  if (c.sim.formulation == Formulation::axisymmetric) {
+    // Axisymmetric scenes are finite elements for now: discs would be rings, and contact
+    // between bodies would need ring areas (docs/case-file.md, "formulation").
+    if (c.bodies.size() > 1)
+      body_entries[1].fail("name",
+                           "formulation = \"axisymmetric\" takes one body for now (no contact "
+                           "between axisymmetric bodies yet)");
+    for (size_t i = 0; i < c.bodies.size(); ++i) {
+      const Body& b = c.bodies[i];
+      if (b.method != BodyMethod::fe)
+        body_entries[i].fail("method",
+                             "formulation = \"axisymmetric\" takes method = \"fe\" only "
+                             "for now (no axisymmetric discs yet)");
+      if (!b.regions.empty())
+        body_entries[i].fail("region",
+                             "formulation = \"axisymmetric\" takes method = \"fe\" only "
+                             "for now (no axisymmetric discs yet)");
+      if (shape_bounds(b.shape)[0] < 0.0)
+        body_entries[i].fail("shape",
+                             "reaches x < 0: in formulation = \"axisymmetric\" x is the radius");
+    }
+  }
   {
     // An impact faster than kMaxClosingSpeedRatio times the materials' P-wave speed is refused:
     // nothing of a solid survives it (meteoroids, the fastest natural impacts, strike rock at

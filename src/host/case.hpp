@@ -30,7 +30,7 @@ struct InputError : std::runtime_error {
 
 using Vec2 = std::array<double, 2>;
 
-enum class Formulation { plane_stress, plane_strain };
+enum class Formulation { plane_stress, plane_strain, axisymmetric };
 enum class MaterialModel { elastic, bilinear_j2, mohr_coulomb, hjc, johnson_cook };
 enum class BodyMethod { fe, de, adaptive, rigid };
 enum class HourglassForm { viscous, stiffness };
@@ -190,7 +190,9 @@ struct BodyProbe {
 struct SimulationParams {
   std::string title;
   Formulation formulation = Formulation::plane_strain;
-  double thickness = 1.0;          // m; required for plane stress, default 1 for plane strain
+  // m; required for plane stress, default 1 for plane strain. Axisymmetric (x = radius, y = axis)
+  // has none: masses, forces and energies are those of the full revolution (2 pi r).
+  double thickness = 1.0;
   double end_time = 0;             // s
   double dt_safety = 0.85;         // alpha of paper Eq. 19 (fraction of the stable step)
   double dt = 0;                   // s; 0 = automatic

@@ -21,7 +21,8 @@ MaterialLaw material_law(const Material& m, Formulation f) {
                     : m.model == MaterialModel::hjc          ? kHjc
                     : m.model == MaterialModel::johnson_cook ? kJohnsonCook
                                                              : kMohrCoulomb;
-  MaterialLaw law = make_material_law(model, f == Formulation::plane_strain, m.density,
+  // Axisymmetric points run the 3D laws as plane strain does, with the hoop increment given.
+  MaterialLaw law = make_material_law(model, f != Formulation::plane_stress, m.density,
                                       m.youngs_modulus, m.poisson_ratio);
   law.yield_stress = m.yield_stress;
   law.plastic_modulus = m.plastic_modulus;
@@ -726,6 +727,7 @@ Model build_model(const Case& c) {
   const HostMesh& m = model.mesh;
   const int nn = m.node_count(), ne = m.element_count();
   const int qp = c.sim.integration == Integration::full ? 4 : 1;
+  const bool axisymmetric = c.sim.formulation == Formulation::axisymmetric;
 
   for (const Material& mat : c.materials)
     model.host_materials.push_back(material_law(mat, c.sim.formulation));
@@ -736,7 +738,8 @@ Model build_model(const Case& c) {
     Kokkos::deep_copy(model.materials, h);
   }
 
-  // Nodes: positions, lumped masses rho A t / 4 per element corner, initial velocities.
+  // Nodes: positions, lumped masses rho A t / 4 per element corner (axisymmetric: 2 pi r_c for
+  // t), initial velocities.
   Nodes& nodes = model.nodes;
   nodes.count = nn;
   nodes.x0 = View<double* [2]>("fracta::node_x0", nn);
@@ -767,13 +770,29 @@ Model build_model(const Case& c) {
                  &p3 = m.position[en[3]];
       const double area =
           0.5 * ((p2[0] - p0[0]) * (p3[1] - p1[1]) + (p1[0] - p3[0]) * (p2[1] - p0[1]));
-      const double em = c.materials[m.element_material[e]].density * area * c.sim.thickness;
+      // Axisymmetric: the element's volume of revolution 2 pi r_c A (r_c the mean radius of its
+      // corners, where the one-point forces are taken), lumped by quarters as in plane strain,
+      // so each element's mass and stiffness scale alike (docs/physics.md 1.1, "Axisymmetry").
+      const double depth =
+          axisymmetric ? kTwoPi * 0.25 * (p0[0] + p1[0] + p2[0] + p3[0]) : c.sim.thickness;
+      const double em = c.materials[m.element_material[e]].density * area * depth;
       for (int a = 0; a < 4; ++a) mass(en[a]) += 0.25 * em;
     }
     // Each component takes one kind of constraint: fixed (several fixed boundaries may hold
     // it), prescribed, or support; a bar is a force and combines with anything.
     enum Claim : int { kFree = 0, kFixedClaim, kPrescribedClaim, kSupportClaim };
     std::vector<std::array<int, 2>> claim(nn, {kFree, kFree}), claimed_by(nn, {-1, -1});
+    if (axisymmetric) {
+      // Nodes on the axis (x = 0) move along it only: v_r = 0 (docs/physics.md 1.1, "Axisymmetry").
+      // A fixed claim, so a fixed_x boundary there agrees with it and nothing else may move them in
+      // x.
+      for (int n = 0; n < nn; ++n)
+        if (m.position[n][0] <= 1e-9 * c.bodies[m.node_body[n]].cell_size) {
+          claim[n][0] = kFixedClaim;
+          fixed(n) |= kFixX;
+          v(n, 0) = 0.0;
+        }
+    }
     for (size_t k = 0; k < c.boundaries.size(); ++k) {
       const Boundary& b = c.boundaries[k];
       const std::string key = "boundary[" + std::to_string(k) + "]";
@@ -811,8 +830,11 @@ Model build_model(const Case& c) {
           if (had != kFree && !(had == kFixedClaim && kind == kFixedClaim)) {
             std::ostringstream msg;
             msg << "constrains the " << (d == 0 ? "x" : "y") << " velocity of the node at ("
-                << m.position[n][0] << ", " << m.position[n][1] << ") m, which boundary["
-                << claimed_by[n][d] << "] already constrains";
+                << m.position[n][0] << ", " << m.position[n][1] << ") m, which ";
+            if (claimed_by[n][d] < 0)
+              msg << "lies on the axis (formulation = \"axisymmetric\" holds v_x = 0 there)";
+            else
+              msg << "boundary[" << claimed_by[n][d] << "] already constrains";
             throw InputError(b.pos.file, b.pos.line, key, msg.str());
           }
           claim[n][d] = kind;
@@ -888,6 +910,7 @@ Model build_model(const Case& c) {
   update_scatter_plan(el);
 
   model.fe.thickness = c.sim.thickness;
+  model.fe.axisymmetric = c.sim.formulation == Formulation::axisymmetric ? 1 : 0;
   model.fe.hourglass_stiffness = c.sim.hourglass == HourglassForm::stiffness ? 1 : 0;
   model.fe.hourglass_coefficient = c.sim.hourglass_coefficient;
   model.fe.bulk_linear = c.sim.bulk_viscosity_linear;

@@ -273,7 +273,7 @@ void Simulation::kick_drift() {
 void Simulation::apply_loads() {
   Model& m = model_;
   fracta::apply_loads(m.nodes, m.tables, m.pressure_edges, m.nodal_forces, m.scene.sim.thickness,
-                      ledger_.clock.time);
+                      m.fe.axisymmetric != 0, ledger_.clock.time);
 }
 
 FeStepSums Simulation::element_forces(double dt) {

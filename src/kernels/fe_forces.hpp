@@ -17,7 +17,11 @@
 namespace fracta {
 
 struct FeParams {
-  double thickness = 1.0;       // m (plane strain: the modelled depth)
+  double thickness = 1.0;  // m (plane strain: the modelled depth)
+  // 1: axisymmetric (x = radius, y = axis; docs/physics.md 1.1, "Axisymmetry"): volumes 2 pi r dA,
+  // the hoop strain rate v_r / r, the hoop stress's nodal forces; thickness unused. Quantities are
+  // those of the full revolution.
+  int axisymmetric = 0;
   double dt = 0.0;              // s, the step just taken (strain increment = D dt)
   int hourglass_stiffness = 0;  // 0 viscous, 1 stiffness form (Flanagan-Belytschko 1981)
   double hourglass_coefficient = 0.1;
@@ -94,6 +98,22 @@ KOKKOS_INLINE_FUNCTION T qp_gradients(const T x[4], const T y[4], int g, T bx[4]
     const double xi = (g == 0 || g == 3) ? -gp : gp;
     const double eta = (g < 2) ? -gp : gp;
     return q4_gradients(x, y, xi, eta, bx, by);
+  }
+}
+
+// Shape function values N_a at quadrature point g (QP = 1: the centre; QP = 4: the 2x2 Gauss
+// point of qp_gradients).
+template <int QP>
+KOKKOS_INLINE_FUNCTION void qp_shape_values(int g, double n[4]) {
+  if constexpr (QP == 1) {
+    (void)g;
+    for (int a = 0; a < 4; ++a) n[a] = 0.25;
+  } else {
+    const double gp = 0.57735026918962576;
+    const double xi = (g == 0 || g == 3) ? -gp : gp;
+    const double eta = (g < 2) ? -gp : gp;
+    const double xa[4] = {-1, 1, 1, -1}, ya[4] = {-1, -1, 1, 1};
+    for (int a = 0; a < 4; ++a) n[a] = 0.25 * (1.0 + xa[a] * xi) * (1.0 + ya[a] * eta);
   }
 }
 
@@ -251,18 +271,35 @@ struct FeForces {
                        splat<T>(mat.p_wave_speed),
                        !all_lanes<T>(),
                        !all_lanes<T>()};
+    // Axisymmetric: the hoop row of the gradient operator, N_a / r = 1 / (4 r_c) at the centre,
+    // adds sum_a (N_a / r_c)^2 = 1 / (4 r_c^2) to sum b.b in the stable-step bound (stable_dt.hpp),
+    // with r_c the mean radius of the corners (where the masses are lumped, model.cpp).
+    T hoop_b2 = zero;
+    if (p.axisymmetric) {
+      const T centre_radius = 0.25 * (x[0] + x[1] + x[2] + x[3]);
+      hoop_b2 = 0.25 / (centre_radius * centre_radius);
+    }
     for (int g = 0; g < QP; ++g) {
       T l[4], bx[4], by[4];
       velocity_gradient(x, y, vx, vy, g, l);
       const T weight = qp_gradients<QP>(x, y, g, bx, by);
       sum.inverted = sum.inverted || !(weight > 0.0);  // also catches NaN geometry
       sum.area += weight;
-      const T volume = weight * p.thickness;
+      // Axisymmetric: the point's radius and hoop strain rate; its volume of revolution.
+      T radius = zero, hoop_rate = zero;
+      if (p.axisymmetric) point_hoop(x, vx, g, radius, hoop_rate);
+      const T depth = p.axisymmetric ? kTwoPi * radius : splat<T>(p.thickness);
+      const T volume = weight * depth;
       const T len = sqrt_(weight * QP);  // the bulk-viscosity length
-      material_point(lanes, g, mat, l, weight, volume, len, bx, by, fx, fy, sum);
+      material_point(lanes, g, mat, l, hoop_rate, weight, volume, len, bx, by, fx, fy, sum);
       if constexpr (QP == 1) {
         T b2, sqrt_b2;
-        hourglass(lanes, mat, x, y, vx, vy, bx, by, weight, fx, fy, sum.hourglass, b2, sqrt_b2);
+        hourglass(lanes, mat, x, y, vx, vy, bx, by, weight, depth, fx, fy, sum.hourglass, b2,
+                  sqrt_b2);
+        if (p.axisymmetric) {
+          b2 += hoop_b2;
+          sqrt_b2 = sqrt_(b2);
+        }
         // len is sqrt(weight) here (QP = 1).
         sum.dt_element = mat.model == kHjc
                              ? one_point_stable_dt(b2, sqrt_b2, len, sum.div_rate, sum.wave_speed,
@@ -275,9 +312,9 @@ struct FeForces {
       sum.dt_element =
           mat.model == kHjc
               ? full_integration_stable_dt(x, y, sqrt_(sum.area), sum.div_rate, sum.wave_speed,
-                                           p.bulk_linear, p.bulk_quadratic)
+                                           p.bulk_linear, p.bulk_quadratic, hoop_b2)
               : full_integration_stable_dt(x, y, sqrt_(sum.area), sum.div_rate, mat.p_wave_speed,
-                                           p.bulk_linear, p.bulk_quadratic);
+                                           p.bulk_linear, p.bulk_quadratic, hoop_b2);
     // Distortion (ConversionCriterion): the element's characteristic length against its
     // reference one, so that no adaptive element drives the step down by its shape.
     if (conversion_pending.data() != nullptr && mat.conversion_length_ratio > 0.0 &&
@@ -362,17 +399,37 @@ struct FeForces {
     l[3] = lyy;
   }
 
+  // Axisymmetric point g: its radius r = sum N_a x_a now (where the volume 2 pi r dA and the
+  // forces are taken) and its hoop strain rate v_r / r, with r at mid-step like the velocity
+  // gradient (0 at a point on the axis, where v_r = 0).
+  template <class T>
+  KOKKOS_FORCEINLINE_FUNCTION void point_hoop(const T (&x)[4], const T (&vx)[4], const int g,
+                                              T& radius, T& hoop_rate) const {
+    double n[4];
+    qp_shape_values<QP>(g, n);
+    T r = splat<T>(0.0), vr = r;
+    for (int a = 0; a < 4; ++a) {
+      r += n[a] * x[a];
+      vr += n[a] * vx[a];
+    }
+    const T r_mid = r - 0.5 * p.dt * vr;
+    radius = r;
+    hoop_rate = r_mid > 0.0 ? vr / r_mid : splat<T>(0.0);
+  }
+
   // ---- Material update ------------------------------------------------------------------------
 
   // Point g of the lanes: the stress update (update_point_stress), the conversion flag, the bulk
   // viscosity, the point's state written back, and its internal forces -volume s.b_a added to
-  // fx, fy.
+  // fx, fy (axisymmetric: and the hoop stress's -2 pi dA N_a s_zz to fx; hoop_rate: the hoop
+  // strain rate, 0 otherwise).
   template <class T, int L>
   KOKKOS_FORCEINLINE_FUNCTION void material_point(const ElementLanes<L>& lanes, const int g,
                                                   const MaterialLaw& mat, const T (&l)[4],
-                                                  const T& weight, const T& volume, const T& len,
-                                                  const T (&bx)[4], const T (&by)[4], T (&fx)[4],
-                                                  T (&fy)[4], ElementSums<T>& sum) const {
+                                                  const T& hoop_rate, const T& weight,
+                                                  const T& volume, const T& len, const T (&bx)[4],
+                                                  const T (&by)[4], T (&fx)[4], T (&fy)[4],
+                                                  ElementSums<T>& sum) const {
     int q[L];
     for (int k = 0; k < L; ++k) q[k] = lanes.e[k] * QP + g;
     const bool q_consecutive = lanes.consecutive && QP == 1;
@@ -385,10 +442,10 @@ struct FeForces {
     T factor = splat<T>(1.0);
     if (tension_rates.extent(0) > 0) {
       const RateLaw& rate = tension_rates(elements.material(lanes.e[0]));
-      if (rate.active()) factor = tension_factor_of(rate, lanes, g, bx, by);
+      if (rate.active()) factor = tension_factor_of(rate, lanes, g, bx, by, volume / weight);
     }
     const auto full_update =
-        update_point_stress(mat, l, volume, volume_old, s, epeq, sum, factor, q);
+        update_point_stress(mat, l, hoop_rate, volume, volume_old, s, epeq, sum, factor, q);
     if (conversion_pending.data() != nullptr) {
       flag_conversion(mat, s, epeq, factor, sum.convert);
       if (mat.conversion_damage > 0.0)
@@ -400,7 +457,8 @@ struct FeForces {
 
     // Artificial bulk viscosity in compression (linear + quadratic, as LS-DYNA/Abaqus):
     // q = rho l (C2 l div^2 - C1 c div) for div < 0; it acts as a pressure on the forces only.
-    const T div = l[0] + l[3];
+    T div = l[0] + l[3];
+    if (p.axisymmetric) div += hoop_rate;
     const T qv =
         div < 0.0 && weight > 0.0
             ? mat.density * len *
@@ -422,6 +480,14 @@ struct FeForces {
       fx[a] -= volume * (sxx * bx[a] + sxy * by[a]);
       fy[a] -= volume * (sxy * bx[a] + syy * by[a]);
     }
+    if (p.axisymmetric) {
+      // f_r,a = -int (s_rr dN_a/dr + s_rz dN_a/dz + s_tt N_a / r) 2 pi r dA: the last term is
+      // the hoop stress's, -2 pi dA N_a s_tt (the Galerkin weak form weighted by r).
+      double n[4];
+      qp_shape_values<QP>(g, n);
+      const T hoop_force = kTwoPi * weight * (s[2] - qv);
+      for (int a = 0; a < 4; ++a) fx[a] -= n[a] * hoop_force;
+    }
   }
 
   // The stress s (xx, yy, zz, xy) and epeq of a point after the step of velocity gradient l
@@ -437,16 +503,21 @@ struct FeForces {
   // q: the lanes' point indices, for the state of laws that have one (Elements::law_state).
   template <class T, int L>
   KOKKOS_FORCEINLINE_FUNCTION auto update_point_stress(const MaterialLaw& mat, const T (&l)[4],
-                                                       const T& volume, const T& volume_old,
-                                                       T (&s)[4], T& epeq, ElementSums<T>& sum,
-                                                       const T& factor, const int (&q)[L]) const {
+                                                       const T& hoop_rate, const T& volume,
+                                                       const T& volume_old, T (&s)[4], T& epeq,
+                                                       ElementSums<T>& sum, const T& factor,
+                                                       const int (&q)[L]) const {
     static_assert(L == LaneCount<T>::value, "one point index per lane");
     T rot_c, rot_s;  // the half-step rotation, used twice
     cayley_rotation<T>(0.25 * (l[1] - l[2]) * p.dt, rot_c, rot_s);
     rotate_stress(s, rot_c, rot_s);
     const T deps[3] = {l[0] * p.dt, l[3] * p.dt, 0.5 * (l[1] + l[2]) * p.dt};
+    const T deps_zz = hoop_rate * p.dt;  // axisymmetric: the hoop increment; else 0
     const T s_old[4] = {s[0], s[1], s[2], s[3]};
-    elastic_increment(mat, deps, s);
+    if (p.axisymmetric)
+      elastic_increment_3d(mat, deps, deps_zz, s);
+    else
+      elastic_increment(mat, deps, s);
     const auto full_update = may_leave_elastic(mat, s, epeq);
     if (any_lane(full_update)) {
       T plastic = sum.plastic;  // a local for the lane writes, so `sum` stays in registers
@@ -455,18 +526,20 @@ struct FeForces {
         double sl[4] = {get_lane(s_old[0], k), get_lane(s_old[1], k), get_lane(s_old[2], k),
                         get_lane(s_old[3], k)};
         const double dl[3] = {get_lane(deps[0], k), get_lane(deps[1], k), get_lane(deps[2], k)};
+        const double dzz = get_lane(deps_zz, k), hoop = get_lane(hoop_rate, k);
         double ep = get_lane(epeq, k);
         // A raised cut-off only widens the elastic range, so the static law's may_leave_elastic
         // above still marks every lane that may leave it.
         const double f = get_lane(factor, k);
         double work = 0.0;
         if (has_law_state(mat.model)) {
-          work = f != 1.0 ? law_point_update(detail::with_tension_factor(mat, f), l, k, q[k], dl,
-                                             sl, ep, sum.wave_speed)
-                          : law_point_update(mat, l, k, q[k], dl, sl, ep, sum.wave_speed);
+          work = f != 1.0 ? law_point_update(detail::with_tension_factor(mat, f), l, hoop, k, q[k],
+                                             dl, sl, ep, sum.wave_speed)
+                          : law_point_update(mat, l, hoop, k, q[k], dl, sl, ep, sum.wave_speed);
         } else {
-          work = f != 1.0 ? fracta::update_stress(detail::with_tension_factor(mat, f), dl, sl, ep)
-                          : fracta::update_stress(mat, dl, sl, ep);
+          work = f != 1.0
+                     ? fracta::update_stress(detail::with_tension_factor(mat, f), dl, sl, ep, dzz)
+                     : fracta::update_stress(mat, dl, sl, ep, dzz);
         }
         work *= get_lane(volume, k);
         set_lane(plastic, k, get_lane(plastic, k) + work);
@@ -477,35 +550,38 @@ struct FeForces {
     }
     // Stress work by the trapezoidal rule (as the nodal work of central differences):
     // dW = (s(n) + s(n+1))/2 : deps * V(n+1/2). In plane strain deps_zz = 0; in plane
-    // stress s_zz = 0, so the in-plane terms are the whole product.
-    sum.strain_work += 0.5 *
-                       ((s_old[0] + s[0]) * deps[0] + (s_old[1] + s[1]) * deps[1] +
-                        2.0 * (s_old[3] + s[3]) * deps[2]) *
-                       0.5 * (volume_old + volume);
+    // stress s_zz = 0, so the in-plane terms are the whole product; axisymmetric adds the hoop
+    // term.
+    T power = (s_old[0] + s[0]) * deps[0] + (s_old[1] + s[1]) * deps[1] +
+              2.0 * (s_old[3] + s[3]) * deps[2];
+    if (p.axisymmetric) power += (s_old[2] + s[2]) * deps_zz;
+    sum.strain_work += 0.5 * power * 0.5 * (volume_old + volume);
     rotate_stress(s, rot_c, rot_s);
     return full_update;
   }
 
   // Lane k of a law with a state (update_stress_with_state: hjc, johnson_cook) at point q: its
   // state read and written back, its equivalent strain rate sqrt(2/3 d':d') from the velocity
-  // gradient l, and the lane's wave speed raised to the point's (law_wave_speed) for the stable
-  // step. Returns the dissipation density (J/m^3).
+  // gradient l (and the hoop rate, axisymmetric), and the lane's wave speed raised to the
+  // point's (law_wave_speed) for the stable step. Returns the dissipation density (J/m^3).
   template <class T>
   KOKKOS_FORCEINLINE_FUNCTION double law_point_update(const MaterialLaw& mat, const T (&l)[4],
-                                                      const int k, const int q,
-                                                      const double (&deps)[3], double (&s)[4],
-                                                      double& epeq, T& wave_speed) const {
+                                                      const double hoop_rate, const int k,
+                                                      const int q, const double (&deps)[3],
+                                                      double (&s)[4], double& epeq,
+                                                      T& wave_speed) const {
     const double lxx = get_lane(l[0], k), lyy = get_lane(l[3], k);
     const double dxy = 0.5 * (get_lane(l[1], k) + get_lane(l[2], k));
     // d_zz: 0 in plane strain; in plane stress that of isochoric (plastic) flow, -(d_xx + d_yy),
-    // the flow whose rate the laws' rate terms act on.
-    const double dzz = mat.plane_strain ? 0.0 : -(lxx + lyy);
+    // the flow whose rate the laws' rate terms act on; axisymmetric: the hoop rate.
+    const double dzz = p.axisymmetric ? hoop_rate : mat.plane_strain ? 0.0 : -(lxx + lyy);
     const double mean = (lxx + lyy + dzz) / 3.0;
     const double d0 = lxx - mean, d1 = lyy - mean, d2 = dzz - mean;
     const double rate = sqrt_(2.0 / 3.0 * (d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * dxy * dxy));
     double state[kLawStateSize];
     for (int c = 0; c < kLawStateSize; ++c) state[c] = elements.law_state(q, c);
-    const double work = update_stress_with_state(mat, deps, s, epeq, state, rate);
+    const double work = update_stress_with_state(mat, deps, s, epeq, state, rate,
+                                                 p.axisymmetric ? dzz * p.dt : 0.0);
     for (int c = 0; c < kLawStateSize; ++c) elements.law_state(q, c) = state[c];
     set_lane(wave_speed, k, max_(get_lane(wave_speed, k), law_wave_speed(mat, state)));
     return work;
@@ -533,14 +609,17 @@ struct FeForces {
   }
 
   // The dynamic increase factor of the lanes' tension cut-off at point g (tension_rates): the
-  // table's strength factor at the largest principal in-plane strain rate (1/s, 0 in
-  // compression) of the filtered velocities (filter_velocities, bond_forces.hpp) over the point's
-  // gradients bx, by. Each element keeps the smallest over its points in tension_factor, which
-  // the conversion criterion reads, so a point held at its raised cut-off converts.
+  // table's strength factor at the largest principal strain rate (1/s, 0 in compression; in
+  // plane, and axisymmetric also the hoop rate v_r / r at the point's radius, depth / 2 pi) of
+  // the filtered velocities (filter_velocities, bond_forces.hpp) over the point's gradients bx,
+  // by. Each element keeps the smallest over its points in tension_factor, which the conversion
+  // criterion reads, so a point held at its raised cut-off converts.
   template <class T, int L>
   KOKKOS_FORCEINLINE_FUNCTION T tension_factor_of(const RateLaw& rate, const ElementLanes<L>& lanes,
-                                                  const int g, const T (&bx)[4],
-                                                  const T (&by)[4]) const {
+                                                  const int g, const T (&bx)[4], const T (&by)[4],
+                                                  const T& depth) const {
+    double n[4];
+    qp_shape_values<QP>(g, n);
     T factor = splat<T>(1.0);
     for (int k = 0; k < L; ++k) {
       double lxx = 0, lxy = 0, lyx = 0, lyy = 0;
@@ -553,8 +632,13 @@ struct FeForces {
         lyy += v_filtered(n, 1) * b1;
       }
       const double dxy = 0.5 * (lxy + lyx);
-      const double largest =
-          0.5 * (lxx + lyy) + sqrt_(0.25 * (lxx - lyy) * (lxx - lyy) + dxy * dxy);
+      double largest = 0.5 * (lxx + lyy) + sqrt_(0.25 * (lxx - lyy) * (lxx - lyy) + dxy * dxy);
+      if (p.axisymmetric) {
+        double vr = 0.0;
+        for (int a = 0; a < 4; ++a) vr += n[a] * v_filtered(lanes.node[a][k], 0);
+        const double radius = get_lane(depth, k) / kTwoPi;
+        if (radius > 0.0) largest = max_(largest, vr / radius);
+      }
       const double f = rate.strength_factor(max_(largest, 0.0));
       set_lane(factor, k, f);
       const int e = lanes.e[k];
@@ -573,8 +657,8 @@ struct FeForces {
   KOKKOS_FORCEINLINE_FUNCTION void hourglass(const ElementLanes<L>& lanes, const MaterialLaw& mat,
                                              const T (&x)[4], const T (&y)[4], const T (&vx)[4],
                                              const T (&vy)[4], const T (&bx)[4], const T (&by)[4],
-                                             const T& weight, T (&fx)[4], T (&fy)[4], T& work,
-                                             T& b2, T& sqrt_b2) const {
+                                             const T& weight, const T& depth, T (&fx)[4],
+                                             T (&fy)[4], T& work, T& b2, T& sqrt_b2) const {
     const double h[4] = {1.0, -1.0, 1.0, -1.0};
     T hx = splat<T>(0.0), hy = hx;
     for (int a = 0; a < 4; ++a) {
@@ -593,8 +677,10 @@ struct FeForces {
     sqrt_b2 = sqrt_(b2);
     T gx, gy;  // generalized hourglass force
     if (p.hourglass_stiffness) {
-      // k = kappa (P-wave modulus) t A sum(b.b): an element-size-independent stiffness.
-      const T k = p.hourglass_coefficient * mat.p_wave_modulus() * p.thickness * weight * b2;
+      // k = kappa (P-wave modulus) t A sum(b.b): an element-size-independent stiffness. t: the
+      // depth (axisymmetric: 2 pi r_c, the volume-weighted form; docs/physics.md 1.1,
+      // "Axisymmetry").
+      const T k = p.hourglass_coefficient * mat.p_wave_modulus() * depth * weight * b2;
       double* qx_column = &elements.hourglass_disp(0, 0);
       double* qy_column = &elements.hourglass_disp(0, 1);
       const T qx = load_lanes<T>(qx_column, lanes.e, lanes.consecutive) + qdot_x * p.dt;
@@ -606,7 +692,7 @@ struct FeForces {
     } else {
       // Viscous: damping coefficient kappa rho c t A sqrt(sum b.b) (kg/s).
       const T cv =
-          p.hourglass_coefficient * mat.density * mat.p_wave_speed * p.thickness * weight * sqrt_b2;
+          p.hourglass_coefficient * mat.density * mat.p_wave_speed * depth * weight * sqrt_b2;
       gx = cv * qdot_x;
       gy = cv * qdot_y;
     }

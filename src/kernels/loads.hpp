@@ -6,8 +6,13 @@
 
 namespace fracta {
 
+// thickness: the depth of plane strain and plane stress; axisymmetric (x = radius): the edge's
+// consistent ring weights instead, node a of edge (a, b) taking 2 pi (2 r_a + r_b) / 6 of its
+// length (int N_a 2 pi r ds), so the forces are those of the full revolution (N).
+// (0.5 p t L) * 2 pi (2 r_a + r_b) / (3 t) = p L 2 pi (2 r_a + r_b) / 6.
 inline void apply_loads(const Nodes& nodes, const LoadTables& tables, const PressureEdges& edges,
-                        const NodalForces& forces, double thickness, double time) {
+                        const NodalForces& forces, double thickness, bool axisymmetric,
+                        double time) {
   const auto x = nodes.x;
   const auto f_ext = nodes.f_ext;
   if (edges.count > 0) {
@@ -28,6 +33,16 @@ inline void apply_loads(const Nodes& nodes, const LoadTables& tables, const Pres
             const double len = sqrt_(dx * dx + dy * dy);
             fx = 0.5 * p * thickness * len * tx;
             fy = 0.5 * p * thickness * len * ty;
+          }
+          if (axisymmetric) {
+            // fx, fy are those of depth `thickness` halved: rescale to the ring weights.
+            const double ra = x(a, 0), rb = x(b, 0), to_ring = kTwoPi / (3.0 * thickness);
+            const double wa = (2.0 * ra + rb) * to_ring, wb = (2.0 * rb + ra) * to_ring;
+            Kokkos::atomic_add(&f_ext(a, 0), wa * fx);
+            Kokkos::atomic_add(&f_ext(a, 1), wa * fy);
+            Kokkos::atomic_add(&f_ext(b, 0), wb * fx);
+            Kokkos::atomic_add(&f_ext(b, 1), wb * fy);
+            return;
           }
           Kokkos::atomic_add(&f_ext(a, 0), fx);
           Kokkos::atomic_add(&f_ext(a, 1), fy);

@@ -4,7 +4,8 @@
 // Conventions: stress in Pa, tension positive, s[0]=xx, s[1]=yy, s[2]=zz, s[3]=xy.
 // Strain increments are tensor components (deps[2] = d eps_xy, not the engineering shear).
 // Plane strain: eps_zz = 0 and s[2] evolves. Plane stress: s[2] = 0 always and eps_zz is
-// whatever keeps it so.
+// whatever keeps it so. Axisymmetric (x = radius, y = axis): z is the hoop direction, the laws
+// run as in plane strain with the hoop strain increment deps_zz = (v_r / r) dt given.
 #pragma once
 #include "kernels/compat.hpp"
 #include "kernels/law_params.hpp"
@@ -91,6 +92,19 @@ KOKKOS_INLINE_FUNCTION void elastic_increment(const MaterialLaw& m, const T deps
     s[1] += c * (deps[1] + m.poisson_ratio * deps[0]);
     s[2] = splat<T>(0.0);
   }
+  s[3] += 2.0 * G * deps[2];
+}
+
+// 3D elastic trial with a prescribed eps_zz increment (xz = yz = 0): the plane-strain trial
+// (deps_zz = 0 gives it bit for bit) and the axisymmetric one (deps_zz the hoop increment).
+template <class T>
+KOKKOS_INLINE_FUNCTION void elastic_increment_3d(const MaterialLaw& m, const T deps[3],
+                                                 const T& deps_zz, T s[4]) {
+  const double G = m.shear_modulus, lam = m.lame_lambda;
+  const T tr = deps[0] + deps[1] + deps_zz;
+  s[0] += lam * tr + 2.0 * G * deps[0];
+  s[1] += lam * tr + 2.0 * G * deps[1];
+  s[2] += lam * tr + 2.0 * G * deps_zz;
   s[3] += 2.0 * G * deps[2];
 }
 
@@ -204,9 +218,13 @@ KOKKOS_INLINE_FUNCTION double j2_plane_stress_return(const MaterialLaw& m, doubl
 }
 
 KOKKOS_INLINE_FUNCTION double bilinear_j2_update(const MaterialLaw& m, const double deps[3],
-                                                 double s[4], double& epeq) {
-  elastic_increment(m, deps, s);
-  return m.plane_strain ? j2_radial_return_3d(m, s, epeq) : j2_plane_stress_return(m, s, epeq);
+                                                 double deps_zz, double s[4], double& epeq) {
+  if (!m.plane_strain) {
+    elastic_increment(m, deps, s);
+    return j2_plane_stress_return(m, s, epeq);
+  }
+  elastic_increment_3d(m, deps, deps_zz, s);
+  return j2_radial_return_3d(m, s, epeq);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -394,17 +412,6 @@ KOKKOS_INLINE_FUNCTION double mohr_coulomb_return_3d(const MaterialLaw& m, doubl
   return diss;
 }
 
-// 3D elastic trial with a prescribed eps_zz increment (xz = yz = 0).
-KOKKOS_INLINE_FUNCTION void elastic_increment_3d(const MaterialLaw& m, const double deps[3],
-                                                 double deps_zz, double s[4]) {
-  const double G = m.shear_modulus, lam = m.lame_lambda;
-  const double tr = deps[0] + deps[1] + deps_zz;
-  s[0] += lam * tr + 2.0 * G * deps[0];
-  s[1] += lam * tr + 2.0 * G * deps[1];
-  s[2] += lam * tr + 2.0 * G * deps_zz;
-  s[3] += 2.0 * G * deps[2];
-}
-
 // Plane stress for a 3D law: the law's 3D update with an unknown eps_zz increment x, solved
 // for sigma_zz(x) = 0 (the plane-stress condition). trial(x, st) runs the update from the
 // point's start state with the increment x, leaves the stress in st and keeps the rest of the
@@ -495,9 +502,9 @@ KOKKOS_INLINE_FUNCTION double mohr_coulomb_plane_stress(const MaterialLaw& m, co
 }
 
 KOKKOS_INLINE_FUNCTION double mohr_coulomb_update(const MaterialLaw& m, const double deps[3],
-                                                  double s[4], double& epeq) {
+                                                  double deps_zz, double s[4], double& epeq) {
   if (!m.plane_strain) return mohr_coulomb_plane_stress(m, deps, s, epeq);
-  elastic_increment(m, deps, s);
+  elastic_increment_3d(m, deps, deps_zz, s);
   return mohr_coulomb_return_3d(m, s, epeq);
 }
 
@@ -851,16 +858,20 @@ KOKKOS_INLINE_FUNCTION auto may_leave_elastic(const MaterialLaw& m, const T s_tr
 // equivalent plastic strain epeq = sqrt(2/3 dep_ij dep_ij) summed over increments (paper Eq. 13).
 // Returns the plastic dissipation density of the increment (J/m^3, >= 0): the backward-Euler
 // plastic work s_new : dep (for mohr_coulomb, summed over the cone and cut-off sub-steps).
-// Dispatch by switch, no virtual calls (docs/physics.md 1.1).
+// deps_zz: the out-of-plane (axisymmetric: hoop) increment, 0 in plane strain; plane stress
+// finds its own. Dispatch by switch, no virtual calls (docs/physics.md 1.1).
 KOKKOS_INLINE_FUNCTION double update_stress(const MaterialLaw& m, const double deps[3], double s[4],
-                                            double& epeq) {
+                                            double& epeq, double deps_zz = 0.0) {
   switch (m.model) {
     case kBilinearJ2:
-      return detail::bilinear_j2_update(m, deps, s, epeq);
+      return detail::bilinear_j2_update(m, deps, deps_zz, s, epeq);
     case kMohrCoulomb:
-      return detail::mohr_coulomb_update(m, deps, s, epeq);
+      return detail::mohr_coulomb_update(m, deps, deps_zz, s, epeq);
     default:
-      elastic_increment(m, deps, s);
+      if (m.plane_strain)
+        elastic_increment_3d(m, deps, deps_zz, s);
+      else
+        elastic_increment(m, deps, s);
       return 0.0;
   }
 }
@@ -868,14 +879,15 @@ KOKKOS_INLINE_FUNCTION double update_stress(const MaterialLaw& m, const double d
 // update_stress for laws with a state beyond the stress and epeq (kLawStateSize values per
 // point, Elements::law_state) and a strain-rate term: hjc, johnson_cook; the others ignore both.
 // strain_rate: the point's equivalent strain rate sqrt(2/3 d':d') (1/s).
+// deps_zz as for update_stress.
 KOKKOS_INLINE_FUNCTION double update_stress_with_state(const MaterialLaw& m, const double deps[3],
                                                        double s[4], double& epeq, double state[3],
-                                                       double strain_rate) {
-  if (m.model == kHjc) return detail::hjc_update(m, deps, 0.0, s, epeq, state, strain_rate);
+                                                       double strain_rate, double deps_zz = 0.0) {
+  if (m.model == kHjc) return detail::hjc_update(m, deps, deps_zz, s, epeq, state, strain_rate);
   if (m.model == kJohnsonCook)
-    return m.plane_strain ? detail::jc_update(m, deps, 0.0, s, epeq, state, strain_rate)
+    return m.plane_strain ? detail::jc_update(m, deps, deps_zz, s, epeq, state, strain_rate)
                           : detail::jc_plane_stress(m, deps, s, epeq, state, strain_rate);
-  return update_stress(m, deps, s, epeq);
+  return update_stress(m, deps, s, epeq, deps_zz);
 }
 
 }  // namespace fracta

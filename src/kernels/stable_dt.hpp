@@ -57,12 +57,14 @@ KOKKOS_INLINE_FUNCTION T one_point_stable_dt(const T& b2, const T& sqrt_b2, cons
 // (x, y) counter-clockwise; length: the bulk-viscosity length, the root of the sum of the points'
 // weights. 0 for an inverted element.
 inline constexpr double kFullIntegrationDtFactor = 0.9;
+// hoop_b2: the axisymmetric hoop row's 1 / (4 r_c^2) added to sum b.b (fe_forces.hpp; 0 else).
 template <class T, class C>
 KOKKOS_INLINE_FUNCTION T full_integration_stable_dt(const T (&x)[4], const T (&y)[4],
                                                     const T& length, const T& div_rate, const C& c,
-                                                    double bulk_linear, double bulk_quadratic) {
+                                                    double bulk_linear, double bulk_quadratic,
+                                                    const T& hoop_b2 = splat<T>(0.0)) {
   const T A = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
-  T b2 = splat<T>(0.0);
+  T b2 = hoop_b2;
   for (int a = 0; a < 4; ++a) {
     const T bxa = (y[(a + 1) % 4] - y[(a + 3) % 4]) / (2.0 * A);
     const T bya = (x[(a + 3) % 4] - x[(a + 1) % 4]) / (2.0 * A);

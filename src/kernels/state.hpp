@@ -51,6 +51,9 @@ struct ScatterPlan {
   KOKKOS_INLINE_FUNCTION int chunk_end(int chunk) const { return chunk_begin_position(chunk + 1); }
 };
 
+// 2 pi: the volume of revolution of an axisymmetric area dA at radius r is 2 pi r dA.
+inline constexpr double kTwoPi = 6.283185307179586;
+
 enum FixedDof : int { kFixX = 1, kFixY = 2 };
 
 struct Nodes {
