@@ -37,8 +37,14 @@ int check_case(const fracta::Case& c) {
   const HistoryRecord h = sim.history();
   const Model& m = sim.model();
   std::printf("case %s: %s\n", c.path.c_str(), c.sim.title.c_str());
-  std::printf("  %s, thickness %g m, end time %g s\n", to_string(c.sim.formulation),
-              c.sim.thickness, c.sim.end_time);
+  if (c.sim.formulation == Formulation::axisymmetric)
+    std::printf(
+        "  axisymmetric (x = radius; masses, forces and energies of the full revolution), "
+        "end time %g s\n",
+        c.sim.end_time);
+  else
+    std::printf("  %s, thickness %g m, end time %g s\n", to_string(c.sim.formulation),
+                c.sim.thickness, c.sim.end_time);
   for (const Material& mat : c.materials)
     std::printf("  material %-12s %-12s rho %g kg/m^3, E %g Pa, nu %g\n", mat.name.c_str(),
                 to_string(mat.model), mat.density, mat.youngs_modulus, mat.poisson_ratio);

@@ -1,0 +1,118 @@
+// Taylor impact (cases/validation/taylor_*.toml; docs/validation.md, "Taylor impact"): a rod
+// 25.4 mm long, 7.62 mm across, strikes a rigid frictionless anvil, axisymmetric, Johnson-Cook
+// plasticity. At the cases' resolution (8 cells across the radius), each under 2 s on 2 cores.
+// Which kind each test is: Steel4340... is a validation against the experiment of Johnson &
+// Cook (1983); Copper... checks conservation laws (mass of the full revolution, the anvil's
+// impulse against the rod's momentum, plastic incompressibility, the energy balance) and pins
+// fracta's own final shape (regression: it fails the experiment's 3 %, docs/validation.md).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "test_util.hpp"
+
+namespace fracta {
+namespace {
+
+const std::string kCases = std::string(FRACTA_SOURCE_DIR) + "/cases/validation/";
+
+struct TaylorResult {
+  double length, footprint;                 // final length and impact-face diameter (m)
+  double mass;                              // total node mass (kg)
+  double impulse;                           // of the anvil, summed over the steps (N s)
+  double momentum_initial, momentum_final;  // axial (N s)
+  double volume_initial, volume_final;      // of revolution of the mesh (m^3)
+  double worst_energy_error;
+};
+
+// Volume of revolution of the mesh (Pappus, edge by edge: exact for straight edges).
+double volume_of_revolution(Simulation& sim) {
+  const auto x = Kokkos::create_mirror_view_and_copy(HostSpace(), sim.model().nodes.x);
+  const auto& elements = sim.model().mesh.element_nodes;
+  double volume = 0.0;
+  for (const auto& en : elements) {
+    double v = 0.0;
+    for (int a = 0; a < 4; ++a) {
+      const int i = en[a], j = en[(a + 1) % 4];
+      const double r1 = x(i, 0), z1 = x(i, 1), r2 = x(j, 0), z2 = x(j, 1);
+      v += M_PI * (r1 * r1 + r1 * r2 + r2 * r2) * (z2 - z1) / 3.0;
+    }
+    volume += v;
+  }
+  return volume;
+}
+
+TaylorResult run_taylor(const std::string& case_file) {
+  Case c = load_case(kCases + case_file);
+  Simulation sim(c);
+  TaylorResult r{};
+  r.mass = sim.history().mass;
+  r.momentum_initial = sim.history().momentum_y;
+  r.volume_initial = volume_of_revolution(sim);
+  while (sim.time() < c.sim.end_time * (1 - 1e-12) && !sim.failed()) {
+    const double before = sim.time();
+    sim.step();
+    r.impulse += sim.boundary_records()[0].fy * (sim.time() - before);
+    r.worst_energy_error = std::max(r.worst_energy_error, std::fabs(sim.history().energy.error));
+  }
+  EXPECT_FALSE(sim.failed());
+  r.momentum_final = sim.history().momentum_y;
+  r.volume_final = volume_of_revolution(sim);
+  const auto x = Kokkos::create_mirror_view_and_copy(HostSpace(), sim.model().nodes.x);
+  const auto x0 = Kokkos::create_mirror_view_and_copy(HostSpace(), sim.model().nodes.x0);
+  double top = -1e300, face_low = 1e300, face_radius = 0.0;
+  for (size_t n = 0; n < x.extent(0); ++n) {
+    top = std::max(top, x(n, 1));
+    if (std::fabs(x0(n, 1)) > 1e-12) continue;  // the impact face: y = 0 at the start
+    face_low = std::min(face_low, x(n, 1));
+    face_radius = std::max(face_radius, x(n, 0));
+  }
+  r.length = top - face_low;
+  r.footprint = 2.0 * face_radius;
+  return r;
+}
+
+// 4340 steel at 208 m/s: final length 22.48 mm measured (Johnson & Cook 1983, L/L0 = 0.885 as
+// tabulated by Zerilli & Armstrong 1987), within 3 % (it meets it by 0.5 %: 22.59
+// mm). The footprint, 11.1 mm measured, comes out 10.7 mm (-3.3 %), outside 3 %: reported in
+// docs/validation.md, not asserted.
+TEST(TaylorImpact, Steel4340At208MetersPerSecondFinalLength) {
+  const TaylorResult r = run_taylor("taylor_steel_4340.toml");
+  EXPECT_NEAR(r.length, 22.48e-3, 0.03 * 22.48e-3);
+  EXPECT_LT(r.worst_energy_error, 0.01);
+  std::printf(
+      "4340 steel at 208 m/s: final length %.3f mm (measured 22.48), footprint %.3f mm "
+      "(measured 11.1)\n",
+      1e3 * r.length, 1e3 * r.footprint);
+}
+
+// OFHC copper at 190 m/s. Conservation: the mass is rho pi R^2 L (the full revolution, exact
+// for a rectangle's corner-mean radius) to 1e-12; the anvil's recorded force, summed over the
+// run, accounts for the rod's change of axial momentum but for the catches of nodes landing on
+// it (docs/output.md: within 2 %); the volume of revolution changes only elastically (plastic
+// flow is isochoric; residual stresses of a few 100 MPa give |dV/V| < 1e-3); energy balance
+// within 1 %. Regression: final length 17.30 mm and footprint 14.58 mm at these cells, within 0.5 %
+// (the experiment's 16.2 and 13.6 mm are 6.7 % and 7 % away; docs/validation.md).
+TEST(TaylorImpact, CopperConservesMassAndVolume) {
+  const TaylorResult r = run_taylor("taylor_copper.toml");
+  const double R = 3.81e-3, L = 25.4e-3, rho = 8960.0;
+  EXPECT_NEAR(r.mass, rho * M_PI * R * R * L, 1e-12 * r.mass);
+  const double change = r.momentum_final - r.momentum_initial;
+  EXPECT_GT(change, r.impulse);
+  EXPECT_NEAR(r.impulse, change, 0.02 * change);
+  EXPECT_GT(r.momentum_final, 0.0);  // it rebounds
+  EXPECT_NEAR(r.volume_final / r.volume_initial, 1.0, 1e-3);
+  EXPECT_NEAR(r.volume_initial, M_PI * R * R * L, 1e-12 * r.volume_initial);
+  EXPECT_NEAR(r.mass, rho * r.volume_initial, 1e-12 * r.mass);
+  EXPECT_LT(r.worst_energy_error, 0.01);
+  EXPECT_NEAR(r.length, 17.30e-3, 0.005 * 17.30e-3);     // regression
+  EXPECT_NEAR(r.footprint, 14.58e-3, 0.005 * 14.58e-3);  // regression
+  std::printf(
+      "copper at 190 m/s: final length %.3f mm, footprint %.3f mm, dV/V %.3g, impulse "
+      "%.6g vs momentum change %.6g N s\n",
+      1e3 * r.length, 1e3 * r.footprint, r.volume_final / r.volume_initial - 1, r.impulse,
+      r.momentum_final - r.momentum_initial);
+}
+
+}  // namespace
+}  // namespace fracta
