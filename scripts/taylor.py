@@ -4,6 +4,8 @@
     taylor.py OUT.h5 [OUT.h5 ...]        measure finished runs (last frame)
     taylor.py --run DIR [--cells 8 16]   run the published tests (fracta, 2 threads) into DIR
                                          and print the comparison table (markdown)
+    taylor.py --anvil DIR [--cells 8]    the copper rod at 190 m/s on an elastic anvil with
+                                         friction 0, 0.1, 0.2, 0.3 (taylor_copper_anvil.toml)
     taylor.py --plot PNG CU190.h5 ST208.h5   final shapes of the copper (190 m/s) and steel
                                          (208 m/s) rods beside the digitised outlines
 
@@ -121,6 +123,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("outputs", nargs="*")
     ap.add_argument("--run", metavar="DIR", help="run the published tests into DIR")
+    ap.add_argument("--anvil", metavar="DIR", help="run the elastic-anvil friction study")
     ap.add_argument("--plot", metavar="PNG", help="picture of two runs: copper 190, steel 208")
     ap.add_argument("--cells", type=int, nargs="+", default=[8],
                     help="cells across the rod's radius (default 8, as the cases)")
@@ -129,6 +132,26 @@ def main():
         if len(args.outputs) != 2:
             ap.error("--plot takes two outputs: copper at 190 m/s, steel at 208 m/s")
         plot(args.plot, *args.outputs)
+        return
+    if args.anvil:
+        os.makedirs(args.anvil, exist_ok=True)
+        fracta = os.path.join(ROOT, "build", "fracta")
+        env = dict(os.environ, OMP_NUM_THREADS=os.environ.get("OMP_NUM_THREADS", "2"))
+        print("| anvil friction | cells across the radius | final length (mm) | footprint (mm) |")
+        print("|---|---|---|---|")
+        for cells in args.cells:
+            for mu in (0.0, 0.1, 0.2, 0.3):
+                out = os.path.join(args.anvil, "anvil_%g_%d.h5" % (mu, cells))
+                h = ROD_RADIUS / cells
+                subprocess.run([fracta, "run", os.path.join(ROOT, "cases", "validation",
+                                                            "taylor_copper_anvil.toml"),
+                                "-o", out, "--set", "contact.friction=%g" % mu,
+                                "--set", "body.rod.cell_size=%.9g" % h,
+                                "--set", "body.anvil.cell_size=%.9g" % h],
+                               check=True, env=env, stdout=subprocess.DEVNULL)
+                length, footprint = measure(out)
+                print("| %.1f | %d | %.2f | %.2f |" % (mu, cells, length, footprint))
+                sys.stdout.flush()
         return
     if not args.run:
         if not args.outputs:

@@ -1094,12 +1094,8 @@ void read_case(const Reader& r, Case& c) {
   for (const Reader& e : body_entries) c.bodies.push_back(read_body(e, bodies, materials));
   if (c.bodies.empty()) r.fail("body", "at least one [[body]] is required");
   if (c.sim.formulation == Formulation::axisymmetric) {
-    // Axisymmetric scenes are finite elements for now: discs would be rings, and contact
-    // between bodies would need ring areas (docs/case-file.md, "formulation").
-    if (c.bodies.size() > 1)
-      body_entries[1].fail("name",
-                           "formulation = \"axisymmetric\" takes one body for now (no contact "
-                           "between axisymmetric bodies yet)");
+    // Axisymmetric scenes are finite elements for now: discs would be rings (and rigid bodies
+    // could only translate along the axis) (docs/case-file.md, "formulation").
     for (size_t i = 0; i < c.bodies.size(); ++i) {
       const Body& b = c.bodies[i];
       if (b.method != BodyMethod::fe)

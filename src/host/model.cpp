@@ -609,10 +609,31 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
         }
     }
     auto mass = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.mass);
+    // Axisymmetric: a node is a ring, and its contact stiffness (k1 per unit depth here, the
+    // lattice being set up for depth `thickness`, 1) takes the ring's depth, its mass over
+    // rho times its share of the area: the mean 2 pi r_c of its elements (pi h on the axis, so
+    // a node there still resists).
+    std::vector<double> depth(nn, 0.0);
+    if (c.sim.formulation == Formulation::axisymmetric) {
+      std::vector<double> area_share(nn, 0.0);
+      for (int e = 0; e < ne; ++e) {
+        const auto& en = m.element_nodes[e];
+        const Vec2 &p0 = m.position[en[0]], &p1 = m.position[en[1]], &p2 = m.position[en[2]],
+                   &p3 = m.position[en[3]];
+        const double area =
+            0.5 * ((p2[0] - p0[0]) * (p3[1] - p1[1]) + (p1[0] - p3[0]) * (p2[1] - p0[1]));
+        for (int a = 0; a < 4; ++a) area_share[en[a]] += 0.25 * area;
+      }
+      for (int n = 0; n < nn; ++n) {
+        const double rho = c.materials[c.bodies[m.node_body[n]].material_index].density;
+        if (area_share[n] > 0.0) depth[n] = mass(n) / (rho * area_share[n]);
+      }
+    }
     for (int n = 0; n < nn; ++n) {
       const Body& body = c.bodies[m.node_body[n]];
       inertia[n] = 0.5 * mass(n) * radius[n] * radius[n];
       kc[n] = c.contact.stiffness_factor * stiffness[body.material_index].k1;
+      if (c.sim.formulation == Formulation::axisymmetric) kc[n] *= depth[n] / c.sim.thickness;
     }
     nodes.radius = to_device_1d<double>("node_radius", radius);
     nodes.inertia = to_device_1d<double>("node_inertia", inertia);
