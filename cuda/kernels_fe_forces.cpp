@@ -1,5 +1,6 @@
 // CUDA check unit for src/kernels/fe_forces.hpp: the element kernel in both integrations
-// (FeForces<1>, FeForces<4>) through compute_fe_forces, and its geometry helpers on the device.
+// (FeForces<1>, FeForces<4>, plane and axisymmetric) through compute_fe_forces, and its geometry
+// helpers on the device.
 #include "kernels/fe_forces.hpp"
 
 namespace fracta::cuda_check {

@@ -35,15 +35,17 @@ struct FeParams {
 // spinning stressed body at O((w dt)^2) per step; cos/sin of w dt would cost a libm call.
 // cayley_rotation gives cos and sin of that rotation; rotate_stress applies it.
 // T (here and below): double, or one element per lane (simd.hpp).
+// Force-inlined: called twice per point on whole lanes, and a call would spill them (GCC
+// outlines it once the element kernel grows).
 template <class T>
-KOKKOS_INLINE_FUNCTION void cayley_rotation(const T& w_dt, T& c, T& sn) {
+KOKKOS_FORCEINLINE_FUNCTION void cayley_rotation(const T& w_dt, T& c, T& sn) {
   const T t = 0.5 * w_dt, inv = 1.0 / (1.0 + t * t);
   c = (1.0 - t * t) * inv;
   sn = 2.0 * t * inv;
 }
 
 template <class T>
-KOKKOS_INLINE_FUNCTION void rotate_stress(T s[4], const T& c, const T& sn) {
+KOKKOS_FORCEINLINE_FUNCTION void rotate_stress(T s[4], const T& c, const T& sn) {
   const T sxx = s[0], syy = s[1], sxy = s[3];
   s[0] = c * c * sxx + 2.0 * c * sn * sxy + sn * sn * syy;
   s[1] = sn * sn * sxx - 2.0 * c * sn * sxy + c * c * syy;
@@ -167,7 +169,9 @@ struct FeStepReducer {
 // update is the one part that branches per element: every lane takes the elastic trial, and
 // the lanes that may_leave_elastic marks (yielding, or near the conversion stresses) redo the
 // whole update_stress one at a time, since return mappings iterate.
-template <int QP>
+// Axisymmetric: the formulation as a template parameter (FeParams::axisymmetric chooses it at
+// the launch), so the plane kernels carry none of its terms.
+template <int QP, bool Axisymmetric = false>
 struct FeForces {
   Nodes nodes;
   Elements elements;
@@ -275,7 +279,7 @@ struct FeForces {
     // adds sum_a (N_a / r_c)^2 = 1 / (4 r_c^2) to sum b.b in the stable-step bound (stable_dt.hpp),
     // with r_c the mean radius of the corners (where the masses are lumped, model.cpp).
     T hoop_b2 = zero;
-    if (p.axisymmetric) {
+    if constexpr (Axisymmetric) {
       const T centre_radius = 0.25 * (x[0] + x[1] + x[2] + x[3]);
       hoop_b2 = 0.25 / (centre_radius * centre_radius);
     }
@@ -287,8 +291,13 @@ struct FeForces {
       sum.area += weight;
       // Axisymmetric: the point's radius and hoop strain rate; its volume of revolution.
       T radius = zero, hoop_rate = zero;
-      if (p.axisymmetric) point_hoop(x, vx, g, radius, hoop_rate);
-      const T depth = p.axisymmetric ? kTwoPi * radius : splat<T>(p.thickness);
+      T depth;
+      if constexpr (Axisymmetric) {
+        point_hoop(x, vx, g, radius, hoop_rate);
+        depth = kTwoPi * radius;
+      } else {
+        depth = splat<T>(p.thickness);
+      }
       const T volume = weight * depth;
       const T len = sqrt_(weight * QP);  // the bulk-viscosity length
       material_point(lanes, g, mat, l, hoop_rate, weight, volume, len, bx, by, fx, fy, sum);
@@ -296,7 +305,7 @@ struct FeForces {
         T b2, sqrt_b2;
         hourglass(lanes, mat, x, y, vx, vy, bx, by, weight, depth, fx, fy, sum.hourglass, b2,
                   sqrt_b2);
-        if (p.axisymmetric) {
+        if constexpr (Axisymmetric) {
           b2 += hoop_b2;
           sqrt_b2 = sqrt_(b2);
         }
@@ -458,7 +467,7 @@ struct FeForces {
     // Artificial bulk viscosity in compression (linear + quadratic, as LS-DYNA/Abaqus):
     // q = rho l (C2 l div^2 - C1 c div) for div < 0; it acts as a pressure on the forces only.
     T div = l[0] + l[3];
-    if (p.axisymmetric) div += hoop_rate;
+    if constexpr (Axisymmetric) div += hoop_rate;
     const T qv =
         div < 0.0 && weight > 0.0
             ? mat.density * len *
@@ -480,7 +489,7 @@ struct FeForces {
       fx[a] -= volume * (sxx * bx[a] + sxy * by[a]);
       fy[a] -= volume * (sxy * bx[a] + syy * by[a]);
     }
-    if (p.axisymmetric) {
+    if constexpr (Axisymmetric) {
       // f_r,a = -int (s_rr dN_a/dr + s_rz dN_a/dz + s_tt N_a / r) 2 pi r dA: the last term is
       // the hoop stress's, -2 pi dA N_a s_tt (the Galerkin weak form weighted by r).
       double n[4];
@@ -514,7 +523,7 @@ struct FeForces {
     const T deps[3] = {l[0] * p.dt, l[3] * p.dt, 0.5 * (l[1] + l[2]) * p.dt};
     const T deps_zz = hoop_rate * p.dt;  // axisymmetric: the hoop increment; else 0
     const T s_old[4] = {s[0], s[1], s[2], s[3]};
-    if (p.axisymmetric)
+    if constexpr (Axisymmetric)
       elastic_increment_3d(mat, deps, deps_zz, s);
     else
       elastic_increment(mat, deps, s);
@@ -554,7 +563,7 @@ struct FeForces {
     // term.
     T power = (s_old[0] + s[0]) * deps[0] + (s_old[1] + s[1]) * deps[1] +
               2.0 * (s_old[3] + s[3]) * deps[2];
-    if (p.axisymmetric) power += (s_old[2] + s[2]) * deps_zz;
+    if constexpr (Axisymmetric) power += (s_old[2] + s[2]) * deps_zz;
     sum.strain_work += 0.5 * power * 0.5 * (volume_old + volume);
     rotate_stress(s, rot_c, rot_s);
     return full_update;
@@ -574,14 +583,14 @@ struct FeForces {
     const double dxy = 0.5 * (get_lane(l[1], k) + get_lane(l[2], k));
     // d_zz: 0 in plane strain; in plane stress that of isochoric (plastic) flow, -(d_xx + d_yy),
     // the flow whose rate the laws' rate terms act on; axisymmetric: the hoop rate.
-    const double dzz = p.axisymmetric ? hoop_rate : mat.plane_strain ? 0.0 : -(lxx + lyy);
+    const double dzz = Axisymmetric ? hoop_rate : mat.plane_strain ? 0.0 : -(lxx + lyy);
     const double mean = (lxx + lyy + dzz) / 3.0;
     const double d0 = lxx - mean, d1 = lyy - mean, d2 = dzz - mean;
     const double rate = sqrt_(2.0 / 3.0 * (d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * dxy * dxy));
     double state[kLawStateSize];
     for (int c = 0; c < kLawStateSize; ++c) state[c] = elements.law_state(q, c);
-    const double work = update_stress_with_state(mat, deps, s, epeq, state, rate,
-                                                 p.axisymmetric ? dzz * p.dt : 0.0);
+    const double work =
+        update_stress_with_state(mat, deps, s, epeq, state, rate, Axisymmetric ? dzz * p.dt : 0.0);
     for (int c = 0; c < kLawStateSize; ++c) elements.law_state(q, c) = state[c];
     set_lane(wave_speed, k, max_(get_lane(wave_speed, k), law_wave_speed(mat, state)));
     return work;
@@ -633,7 +642,7 @@ struct FeForces {
       }
       const double dxy = 0.5 * (lxy + lyx);
       double largest = 0.5 * (lxx + lyy) + sqrt_(0.25 * (lxx - lyy) * (lxx - lyy) + dxy * dxy);
-      if (p.axisymmetric) {
+      if constexpr (Axisymmetric) {
         double vr = 0.0;
         for (int a = 0; a < 4; ++a) vr += n[a] * v_filtered(lanes.node[a][k], 0);
         const double radius = get_lane(depth, k) / kTwoPi;
@@ -772,8 +781,8 @@ struct FeForces {
 // the first ones into conversion_candidates (as many as it holds; compact_candidates in
 // conversion.hpp). Without a usable elements.scatter (the plan of the active list:
 // update_scatter_plan) the forces are added atomically.
-template <int QP>
-inline FeStepSums launch_fe_forces(const char* name, FeForces<QP> kernel) {
+template <class Kernel>
+inline FeStepSums launch_fe_forces(const char* name, Kernel kernel) {
   const int active_count = kernel.elements.active_count;
   if (kernel.elements.scatter.usable(active_count)) {
     kernel.atomic = false;
@@ -781,7 +790,7 @@ inline FeStepSums launch_fe_forces(const char* name, FeForces<QP> kernel) {
     return for_each_chunk<FeStepReducer>(name, plan, std::move(kernel));
   }
   FeStepSums sums;
-  const auto policy = Kokkos::RangePolicy<ExecSpace>(0, FeForces<QP>::batches(active_count));
+  const auto policy = Kokkos::RangePolicy<ExecSpace>(0, Kernel::batches(active_count));
   Kokkos::parallel_reduce(name, policy, kernel, FeStepReducer(sums));
   return sums;
 }
@@ -823,17 +832,25 @@ inline FeStepSums compute_fe_forces(const Nodes& nodes, const Elements& elements
   if (elements.active_count == 0) return FeStepSums();
   const View<double* [2]> v_filtered =
       tension_rates.extent(0) > 0 ? nodes.v_filtered : View<double* [2]>();
-  if (elements.qp_per_element == 1)
-    return launch_fe_forces(
-        "fracta::fe_forces",
-        FeForces<1>{node_motion_views(nodes), fe_element_views(elements), materials, p,
-                    criterion.adaptive, criterion.on_tension, conversion_pending,
-                    conversion_candidates, true, tension_rates, v_filtered});
-  return launch_fe_forces(
-      "fracta::fe_forces_full",
-      FeForces<4>{node_motion_views(nodes), fe_element_views(elements), materials, p,
-                  criterion.adaptive, criterion.on_tension, conversion_pending,
-                  conversion_candidates, true, tension_rates, v_filtered});
+  const auto launch = [&](const char* name, auto kernel) {
+    kernel.nodes = node_motion_views(nodes);
+    kernel.elements = fe_element_views(elements);
+    kernel.materials = materials;
+    kernel.p = p;
+    kernel.adaptive = criterion.adaptive;
+    kernel.on_tension = criterion.on_tension;
+    kernel.conversion_pending = conversion_pending;
+    kernel.conversion_candidates = conversion_candidates;
+    kernel.tension_rates = tension_rates;
+    kernel.v_filtered = v_filtered;
+    return launch_fe_forces(name, kernel);
+  };
+  if (p.axisymmetric)
+    return elements.qp_per_element == 1
+               ? launch("fracta::fe_forces_axisymmetric", FeForces<1, true>{})
+               : launch("fracta::fe_forces_full_axisymmetric", FeForces<4, true>{});
+  return elements.qp_per_element == 1 ? launch("fracta::fe_forces", FeForces<1>{})
+                                      : launch("fracta::fe_forces_full", FeForces<4>{});
 }
 
 }  // namespace fracta
