@@ -135,6 +135,7 @@ void build_boundaries(Model& model) {
     const int own_table = tabled ? table++ : -1;
     const auto sel = select_nodes(model.mesh, b.where, b.body_index);
     std::vector<std::array<int, 2>> set_table(sel.size(), {-1, -1});
+    const int support_begin = static_cast<int>(s_node.size());
     for (size_t i = 0; i < sel.size(); ++i) {
       const int n = sel[i];
       if (b.type == Boundary::Type::velocity) {
@@ -160,6 +161,8 @@ void build_boundaries(Model& model) {
     set.direction[1] = b.direction[1];
     set.bar = {b.impedance, b.area};
     set.bar_table = b.type == Boundary::Type::bar ? own_table : -1;
+    set.support_begin = support_begin;
+    set.support_end = static_cast<int>(s_node.size());
     model.boundary_sets.push_back(set);
   }
   PrescribedDofs& p = model.prescribed;
@@ -173,6 +176,7 @@ void build_boundaries(Model& model) {
   sd.component = to_device_1d<int>("support_component", s_component);
   sd.sign = to_device_1d<double>("support_sign", s_sign);
   sd.plane = to_device_1d<double>("support_plane", s_plane);
+  sd.catch_force = View<double*>("fracta::support_catch_force", sd.count);
 }
 
 void build_probes(Model& model) {

@@ -39,6 +39,7 @@ struct BoundarySet {
   int bar_table = -1;     // bars: the incident velocity table
   double stress = 0.0;    // bars: the face stress of the last evaluation (Pa, compression > 0)
   double incident = 0.0;  // bars: Z v_I at that time (Pa)
+  int support_begin = 0, support_end = 0;  // supports: its components in Model::supports
 };
 
 struct Model {

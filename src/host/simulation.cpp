@@ -368,7 +368,7 @@ void Simulation::boundary_forces(const double kick_interval) {
     if (b.stress > 0.0) push_face(m.nodes, b.nodes, b.bar.area * b.stress / face.mass, dx, dy);
   }
   // After the bars: a support holds against every other force.
-  ledger_.energy.external += update_supports(m.nodes, m.supports);
+  ledger_.energy.external += update_supports(m.nodes, m.supports, kick_interval);
 }
 
 void Simulation::kick(bool defer) {
@@ -612,6 +612,11 @@ std::vector<BoundaryRecord> Simulation::boundary_records() {
     } else {
       rec.fx = r.fx;
       rec.fy = r.fy;
+      if (b.type == Boundary::Type::support) {
+        // The catches of the last evaluation, along the support's axis.
+        const double caught = catch_force_sum(m.supports, b.support_begin, b.support_end);
+        (b.direction[0] != 0.0 ? rec.fx : rec.fy) += caught;
+      }
     }
     out.push_back(rec);
   }

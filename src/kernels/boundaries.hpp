@@ -26,6 +26,9 @@ struct PrescribedDofs {
 struct SupportDofs {
   View<int*> node, component;
   View<double*> sign, plane;
+  // The force of a catch at the last evaluation (N, along the component: -m v over the kick
+  // interval that stops the node; 0 for a component not caught then), for the force record.
+  View<double*> catch_force;
   int count = 0;
 };
 
@@ -135,8 +138,11 @@ inline void prescribe(const Nodes& nodes, const PrescribedDofs& dofs, const Load
 // Before the second half kick, with the forces of this evaluation: held components whose
 // forces pull them away let go; free ones at or behind their plane and moving into it are
 // caught (the kick then zeroes their velocity). Returns the work of the catches (J, <= 0): the
-// kinetic energy m v^2 / 2 of the caught component, taken by a perfectly plastic impact.
-inline double update_supports(const Nodes& nodes, const SupportDofs& s) {
+// kinetic energy m v^2 / 2 of the caught component, taken by a perfectly plastic impact; and
+// leaves in catch_force the impulse -m v of each catch over kick_interval (s, the interval the
+// evaluation's forces act over), so the force record carries it.
+inline double update_supports(const Nodes& nodes, const SupportDofs& s,
+                              const double kick_interval) {
   if (s.count == 0) return 0.0;
   const auto fixed = nodes.fixed;
   const auto x = nodes.x;
@@ -144,6 +150,7 @@ inline double update_supports(const Nodes& nodes, const SupportDofs& s) {
   const auto f = nodes.f;
   const auto f_ext = nodes.f_ext;
   const auto mass = nodes.mass;
+  const auto catch_force = s.catch_force;
   double work = 0.0;
   Kokkos::parallel_reduce(
       "fracta::update_supports", Kokkos::RangePolicy<ExecSpace>(0, s.count),
@@ -151,15 +158,29 @@ inline double update_supports(const Nodes& nodes, const SupportDofs& s) {
         const int n = s.node(k), d = s.component(k);
         const int bit = 1 << d;
         const double sign = s.sign(k);
+        double caught = 0.0;
         if (fixed(n) & bit) {
           if (!UnilateralSupport::holds(sign, f(n, d) + f_ext(n, d))) fixed(n) &= ~bit;
         } else if (UnilateralSupport::catches(sign, sign * (x(n, d) - s.plane(k)), v(n, d))) {
           fixed(n) |= bit;
           w -= 0.5 * mass(n) * v(n, d) * v(n, d);
+          caught = kick_interval > 0.0 ? -mass(n) * v(n, d) / kick_interval : 0.0;
         }
+        catch_force(k) = caught;
       },
       work);
   return work;
+}
+
+// The catch forces (update_supports) of the support components [begin, end) (N).
+inline double catch_force_sum(const SupportDofs& s, const int begin, const int end) {
+  if (end <= begin) return 0.0;
+  const auto catch_force = s.catch_force;
+  double sum = 0.0;
+  Kokkos::parallel_reduce(
+      "fracta::catch_force_sum", Kokkos::RangePolicy<ExecSpace>(begin, end),
+      KOKKOS_LAMBDA(const int k, double& acc) { acc += catch_force(k); }, sum);
+  return sum;
 }
 
 // A bar face's totals along the bar direction: mass (kg), momentum (kg m/s), force (N) of the
