@@ -30,6 +30,19 @@ struct HostMesh {
 
   int node_count() const { return static_cast<int>(position.size()); }
   int element_count() const { return static_cast<int>(element_nodes.size()); }
+  // Element e's area (m^2, the shoelace formula over its diagonals) and the mean radius of its
+  // corners (m; x, in an axisymmetric model), in the reference configuration.
+  double element_area(int e) const {
+    const auto& en = element_nodes[e];
+    const Vec2 &p0 = position[en[0]], &p1 = position[en[1]], &p2 = position[en[2]],
+               &p3 = position[en[3]];
+    return 0.5 * ((p2[0] - p0[0]) * (p3[1] - p1[1]) + (p1[0] - p3[0]) * (p2[1] - p0[1]));
+  }
+  double element_mean_x(int e) const {
+    const auto& en = element_nodes[e];
+    return 0.25 *
+           (position[en[0]][0] + position[en[1]][0] + position[en[2]][0] + position[en[3]][0]);
+  }
 };
 
 // Throws InputError (naming the body) when a body gets no cell.

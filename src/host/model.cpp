@@ -620,14 +620,8 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
     std::vector<double> depth(nn, 0.0);
     if (c.sim.formulation == Formulation::axisymmetric) {
       std::vector<double> area_share(nn, 0.0);
-      for (int e = 0; e < ne; ++e) {
-        const auto& en = m.element_nodes[e];
-        const Vec2 &p0 = m.position[en[0]], &p1 = m.position[en[1]], &p2 = m.position[en[2]],
-                   &p3 = m.position[en[3]];
-        const double area =
-            0.5 * ((p2[0] - p0[0]) * (p3[1] - p1[1]) + (p1[0] - p3[0]) * (p2[1] - p0[1]));
-        for (int a = 0; a < 4; ++a) area_share[en[a]] += 0.25 * area;
-      }
+      for (int e = 0; e < ne; ++e)
+        for (const int n : m.element_nodes[e]) area_share[n] += 0.25 * m.element_area(e);
       for (int n = 0; n < nn; ++n) {
         const double rho = c.materials[c.bodies[m.node_body[n]].material_index].density;
         if (area_share[n] > 0.0) depth[n] = mass(n) / (rho * area_share[n]);
@@ -791,15 +785,11 @@ Model build_model(const Case& c) {
     }
     for (int e = 0; e < ne; ++e) {
       const auto& en = m.element_nodes[e];
-      const auto &p0 = m.position[en[0]], &p1 = m.position[en[1]], &p2 = m.position[en[2]],
-                 &p3 = m.position[en[3]];
-      const double area =
-          0.5 * ((p2[0] - p0[0]) * (p3[1] - p1[1]) + (p1[0] - p3[0]) * (p2[1] - p0[1]));
+      const double area = m.element_area(e);
       // Axisymmetric: the element's volume of revolution 2 pi r_c A (r_c the mean radius of its
       // corners, where the one-point forces are taken), lumped by quarters as in plane strain,
       // so each element's mass and stiffness scale alike (docs/physics.md 1.1, "Axisymmetry").
-      const double depth =
-          axisymmetric ? kTwoPi * 0.25 * (p0[0] + p1[0] + p2[0] + p3[0]) : c.sim.thickness;
+      const double depth = axisymmetric ? kTwoPi * m.element_mean_x(e) : c.sim.thickness;
       const double em = c.materials[m.element_material[e]].density * area * depth;
       for (int a = 0; a < 4; ++a) mass(en[a]) += 0.25 * em;
     }
