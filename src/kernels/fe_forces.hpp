@@ -81,6 +81,13 @@ KOKKOS_INLINE_FUNCTION T q4_gradients(const T x[4], const T y[4], double xi, dou
   return det;
 }
 
+// The natural coordinates (xi, eta) of 2x2 Gauss point g (counter-clockwise from (-, -)).
+KOKKOS_INLINE_FUNCTION void gauss_point(int g, double& xi, double& eta) {
+  const double gp = 0.57735026918962576;  // 1/sqrt(3)
+  xi = (g == 0 || g == 3) ? -gp : gp;
+  eta = (g < 2) ? -gp : gp;
+}
+
 // Gradients at quadrature point g; returns the point's weight (area, m^2).
 // QP = 1: the uniform gradients b_a = (1/A) int dN_a/dx dA of Flanagan & Belytschko (1981,
 // Eq. 14), exact element averages; QP = 4: 2x2 Gauss points.
@@ -96,9 +103,8 @@ KOKKOS_INLINE_FUNCTION T qp_gradients(const T x[4], const T y[4], int g, T bx[4]
     }
     return A;
   } else {
-    const double gp = 0.57735026918962576;  // 1/sqrt(3)
-    const double xi = (g == 0 || g == 3) ? -gp : gp;
-    const double eta = (g < 2) ? -gp : gp;
+    double xi, eta;
+    gauss_point(g, xi, eta);
     return q4_gradients(x, y, xi, eta, bx, by);
   }
 }
@@ -111,9 +117,8 @@ KOKKOS_INLINE_FUNCTION void qp_shape_values(int g, double n[4]) {
     (void)g;
     for (int a = 0; a < 4; ++a) n[a] = 0.25;
   } else {
-    const double gp = 0.57735026918962576;
-    const double xi = (g == 0 || g == 3) ? -gp : gp;
-    const double eta = (g < 2) ? -gp : gp;
+    double xi, eta;
+    gauss_point(g, xi, eta);
     const double xa[4] = {-1, 1, 1, -1}, ya[4] = {-1, -1, 1, 1};
     for (int a = 0; a < 4; ++a) n[a] = 0.25 * (1.0 + xa[a] * xi) * (1.0 + ya[a] * eta);
   }
