@@ -12,6 +12,9 @@
 #                     checking (Kokkos_ENABLE_DEBUG, Kokkos_ENABLE_DEBUG_BOUNDS_CHECK) from the
 #                     same source, in its own prefix kokkos-3.4.1-openmp-debug, and a Debug
 #                     fracta in build-debug-bounds/ (the CMakePresets.json preset debug-bounds)
+#   FRACTA_KOKKOS_FLAVOR=device (or the option --device-path): fracta built to take the device
+#                     code path on the CPU (-DFRACTA_DEVICE_PATH=ON: atomic scatter, one lane per
+#                     work item, LayoutLeft views) with the release Kokkos, in build-device/
 set -euo pipefail
 
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -19,7 +22,8 @@ flavor=${FRACTA_KOKKOS_FLAVOR:-release}
 for arg in "$@"; do
   case $arg in
     --kokkos-debug) flavor=debug ;;
-    *) printf '[setup] unknown option %s (known: --kokkos-debug)\n' "$arg" >&2; exit 2 ;;
+    --device-path) flavor=device ;;
+    *) printf '[setup] unknown option %s (known: --kokkos-debug, --device-path)\n' "$arg" >&2; exit 2 ;;
   esac
 done
 prefix=${FRACTA_PREFIX:-/opt/fracta}
@@ -31,6 +35,13 @@ case $flavor in
     build_type=${FRACTA_BUILD_TYPE:-Release}
     fracta_flags=()
     ;;
+  device)
+    kokkos_prefix=$prefix/kokkos-3.4.1-openmp
+    kokkos_flags=(-DCMAKE_BUILD_TYPE=Release)
+    build_dir=${FRACTA_BUILD_DIR:-$repo/build-device}
+    build_type=${FRACTA_BUILD_TYPE:-Release}
+    fracta_flags=(-DFRACTA_DEVICE_PATH=ON -DFRACTA_BUILD_BENCH=OFF)  # the path is for the tests
+    ;;
   debug)
     kokkos_prefix=$prefix/kokkos-3.4.1-openmp-debug
     kokkos_flags=(-DCMAKE_BUILD_TYPE=Debug -DKokkos_ENABLE_DEBUG=ON
@@ -39,7 +50,7 @@ case $flavor in
     build_type=${FRACTA_BUILD_TYPE:-Debug}
     fracta_flags=(-DFRACTA_BUILD_BENCH=OFF)  # the bounds check is for the tests
     ;;
-  *) printf '[setup] FRACTA_KOKKOS_FLAVOR must be release or debug (got %s)\n' "$flavor" >&2; exit 2 ;;
+  *) printf '[setup] FRACTA_KOKKOS_FLAVOR must be release, debug or device (got %s)\n' "$flavor" >&2; exit 2 ;;
 esac
 jobs=$(nproc)
 
@@ -71,7 +82,7 @@ elif [ -f "$kokkos_prefix/.fracta-stamp" ]; then
   kokkos_root=$kokkos_prefix
 else
   kokkos_root=$kokkos_prefix
-  say "building Kokkos 3.4.1 (OpenMP + Serial, $flavor) into $kokkos_prefix (about a minute, once)"
+  say "building Kokkos 3.4.1 (OpenMP + Serial, ${kokkos_flags[0]#-DCMAKE_BUILD_TYPE=}) into $kokkos_prefix (about a minute, once)"
   work=$(mktemp -d)
   trap 'rm -rf "$work"' EXIT
   # shellcheck source=scripts/kokkos_source.sh

@@ -26,6 +26,11 @@ void print_info() {
   std::printf("Kokkos %d.%d.%d, execution space %s, concurrency %d\n", KOKKOS_VERSION / 10000,
               (KOKKOS_VERSION / 100) % 100, KOKKOS_VERSION % 100, fracta::ExecSpace::name(),
               fracta::ExecSpace().concurrency());
+#ifdef FRACTA_DEVICE_PATH
+  std::printf("code path: device (atomic scatter, one lane per item, LayoutLeft views)\n");
+#else
+  std::printf("code path: host (scatter by chunk colours, SIMD lanes)\n");
+#endif
 }
 
 int check_case(const fracta::Case& c) {

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "host/case.hpp"
@@ -287,21 +288,51 @@ inline double run_to_end(Simulation& sim, int every = 1) {
   return worst;
 }
 
-// Every view a step mutates (Simulation::state, state_views.hpp) equal in two runs, byte by
-// byte; returns how many views were compared.
-inline int expect_same_state(Simulation& first, Simulation& second) {
+// Two runs of the same input agree to the bit on the host path: the chunk-coloured scatter and
+// the fixed reduction trees sum in one order. The device path (FRACTA_DEVICE_PATH: GPUs, and CPU
+// builds with -DFRACTA_DEVICE_PATH=ON) adds to nodes atomically, in an order that changes from
+// run to run, so its runs agree only to round-off that the dynamics then carries on; the tests
+// that compare runs state the tolerance they need there (kBitwiseRuns false).
+#ifdef FRACTA_DEVICE_PATH
+inline constexpr bool kBitwiseRuns = false;
+#else
+inline constexpr bool kBitwiseRuns = true;
+#endif
+
+// The tolerance a comparison of two runs uses: 0 (bitwise) on the host path, `device` on the
+// device path.
+inline double run_tolerance(double device) {
+  return kBitwiseRuns ? 0.0 : device;
+}
+
+// Every view a step mutates (Simulation::state, state_views.hpp) equal in two runs: byte by byte
+// on the host path; on the device path, floating-point views within `device_relative` of the
+// first run's largest magnitude in the view, integer views exactly (a decision such as a bond
+// break that round-off flipped shows there). Returns how many views were compared.
+inline int expect_same_state(Simulation& first, Simulation& second,
+                             double device_relative = 1e-12) {
   StateViews a = first.state(), b = second.state();
   int views = 0;
-  for_each_state_view(a, b, [&views](const char* name, const auto& va, const auto& vb) {
+  for_each_state_view(a, b, [&](const char* name, const auto& va, const auto& vb) {
     const auto ha = Kokkos::create_mirror_view_and_copy(HostSpace(), va);
     const auto hb = Kokkos::create_mirror_view_and_copy(HostSpace(), vb);
     ASSERT_EQ(ha.span(), hb.span()) << name;
-    using Value = typename std::decay_t<decltype(ha)>::value_type;
-    // An empty view may have no storage at all (memcmp must not see a null pointer).
-    if (ha.span() > 0) {
-      EXPECT_EQ(std::memcmp(ha.data(), hb.data(), ha.span() * sizeof(Value)), 0) << name;
-    }
+    using Value = typename std::decay_t<decltype(ha)>::non_const_value_type;
     ++views;
+    // An empty view may have no storage at all (memcmp must not see a null pointer).
+    if (ha.span() == 0) return;
+    if constexpr (std::is_floating_point_v<Value>) {
+      if (!kBitwiseRuns) {
+        double scale = 0.0, diff = 0.0;
+        for (size_t i = 0; i < ha.span(); ++i) {
+          scale = std::max(scale, std::fabs(static_cast<double>(ha.data()[i])));
+          diff = std::max(diff, std::fabs(static_cast<double>(ha.data()[i] - hb.data()[i])));
+        }
+        EXPECT_LE(diff, device_relative * scale) << name;
+        return;
+      }
+    }
+    EXPECT_EQ(std::memcmp(ha.data(), hb.data(), ha.span() * sizeof(Value)), 0) << name;
   });
   return views;
 }

@@ -107,7 +107,8 @@ inline ConversionCriterion conversion_criterion(const Model& m) {
           m.elements.nodes,
           m.nodes.x,
           m.elements.reference_gradient_norm2,
-          m.elements.tension_factor};
+          m.elements.tension_factor,
+          m.elements.law_state};
 }
 
 }  // namespace fracta

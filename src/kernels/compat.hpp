@@ -6,6 +6,15 @@
 #include <Kokkos_Core.hpp>
 #include <string>
 
+// The device code path: atomic node scatter (kernels/scatter.hpp), one lane per work item (no
+// host SIMD, kernels/simd.hpp) and LayoutLeft views. GPU builds always take it; a CPU build takes
+// it when configured with -DFRACTA_DEVICE_PATH=ON, so that the suite runs the GPU's code on the
+// CPU (docs/development.md, "The device path").
+#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL) || \
+    defined(FRACTA_EMULATE_DEVICE)
+#define FRACTA_DEVICE_PATH 1
+#endif
+
 // A function the host compiler keeps out of line, so that a rarely taken branch does not change
 // the code (and the contraction of products into multiply-adds) of the hot loop that calls it.
 #if defined(__GNUC__) && !defined(__CUDA_ARCH__)
@@ -20,8 +29,15 @@ using ExecSpace = Kokkos::DefaultExecutionSpace;
 using MemSpace = ExecSpace::memory_space;
 using HostSpace = Kokkos::HostSpace;
 
+// The execution space's own layout (LayoutRight on CPUs, LayoutLeft on GPUs), LayoutLeft on the
+// device path: code must not assume either (host copies go through deep_copy, never data()).
+#ifdef FRACTA_DEVICE_PATH
+template <class T>
+using View = Kokkos::View<T, Kokkos::LayoutLeft, MemSpace>;
+#else
 template <class T>
 using View = Kokkos::View<T, MemSpace>;
+#endif
 // Per-item vectors stored by component (LayoutLeft): component k of consecutive items is
 // contiguous, so the SIMD element kernel (fe_forces.hpp, simd.hpp) moves one component of
 // eight elements with one vector load or store.

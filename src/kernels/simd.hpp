@@ -9,8 +9,7 @@
 #pragma once
 #include "kernels/compat.hpp"
 
-#if !defined(KOKKOS_ENABLE_CUDA) && !defined(KOKKOS_ENABLE_HIP) && !defined(KOKKOS_ENABLE_SYCL) && \
-    defined(__GNUC__)
+#if !defined(FRACTA_DEVICE_PATH) && defined(__GNUC__)
 #define FRACTA_HOST_SIMD 1
 #if defined(__AVX512F__)
 #include <immintrin.h>

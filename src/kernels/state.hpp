@@ -19,7 +19,7 @@ namespace fracta {
 
 // How kernels add to shared nodes (kernels/scatter.hpp): atomically on GPUs (thousands of
 // threads, fast atomics), by the chunks of a ScatterPlan on CPUs.
-#if defined(KOKKOS_ENABLE_CUDA) || defined(KOKKOS_ENABLE_HIP) || defined(KOKKOS_ENABLE_SYCL)
+#ifdef FRACTA_DEVICE_PATH
 inline constexpr bool kAtomicScatter = true;
 #else
 inline constexpr bool kAtomicScatter = false;

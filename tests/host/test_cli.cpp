@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "cli_util.hpp"
+#include "kernels/compat.hpp"  // FRACTA_DEVICE_PATH
 
 namespace {
 
@@ -221,6 +222,11 @@ TEST(Cli, PlateCaseRunsAndInfoPrintsBackend) {
   const Result info = run("info");
   EXPECT_EQ(info.code, 0);
   EXPECT_NE(info.out.find("execution space"), std::string::npos);
+#ifdef FRACTA_DEVICE_PATH
+  EXPECT_NE(info.out.find("code path: device"), std::string::npos) << info.out;
+#else
+  EXPECT_NE(info.out.find("code path: host"), std::string::npos) << info.out;
+#endif
   const std::string out = (fs::temp_directory_path() / "fracta_cli_plate.h5").string();
   const Result r = run("run " + std::string(FRACTA_SOURCE_DIR) + "/cases/plate_fe.toml -o " + out +
                        " --set simulation.end_time=4e-6");

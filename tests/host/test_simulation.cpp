@@ -42,8 +42,11 @@ double max_difference(const V& a, const V& b) {
 
 // Runs the case `steps` steps both ways and compares the states and energies: the fused kick
 // is the same arithmetic in the same order, so the runs agree to round-off (1e-12 of the largest
-// value; measured: bitwise equal).
+// value; measured: bitwise equal). On the device path the node sums add atomically, in an order
+// that differs between the runs, and the rotating lattice carries that on: 1e-10 there (measured
+// 2e-11 of the largest spin after 200 steps).
 void expect_same_run(const Case& c, int steps) {
+  const double tolerance = test::kBitwiseRuns ? 1e-12 : 1e-10;
   Simulation plain(c), deferred(c);
   for (int s = 0; s < steps; ++s) {
     plain.step();
@@ -52,17 +55,17 @@ void expect_same_run(const Case& c, int steps) {
   const HistoryRecord hp = plain.history(), hd = deferred.history();  // finishes the kick
   const Nodes &a = plain.model().nodes, &b = deferred.model().nodes;
   ASSERT_GT(max_abs(a.v), 0.0);
-  EXPECT_LE(max_difference(a.v, b.v), 1e-12 * max_abs(a.v));
-  EXPECT_LE(max_difference(a.x, b.x), 1e-12 * max_abs(a.x));
+  EXPECT_LE(max_difference(a.v, b.v), tolerance * max_abs(a.v));
+  EXPECT_LE(max_difference(a.x, b.x), tolerance * max_abs(a.x));
   if (a.has_particles()) {
-    EXPECT_LE(max_difference(a.spin, b.spin), 1e-12 * max_abs_1d(a.spin));
-    EXPECT_LE(max_difference(a.rotation, b.rotation), 1e-12);
+    EXPECT_LE(max_difference(a.spin, b.spin), tolerance * max_abs_1d(a.spin));
+    EXPECT_LE(max_difference(a.rotation, b.rotation), tolerance);
   }
   ASSERT_GT(hp.energy.external, 0.0);
-  EXPECT_NEAR(hd.energy.external, hp.energy.external, 1e-12 * hp.energy.external);
-  EXPECT_NEAR(hd.energy.kinetic, hp.energy.kinetic, 1e-12 * hp.energy.external);
-  EXPECT_NEAR(hd.energy.internal, hp.energy.internal, 1e-12 * hp.energy.external);
-  EXPECT_NEAR(hd.energy.error, hp.energy.error, 1e-12);
+  EXPECT_NEAR(hd.energy.external, hp.energy.external, tolerance * hp.energy.external);
+  EXPECT_NEAR(hd.energy.kinetic, hp.energy.kinetic, tolerance * hp.energy.external);
+  EXPECT_NEAR(hd.energy.internal, hp.energy.internal, tolerance * hp.energy.external);
+  EXPECT_NEAR(hd.energy.error, hp.energy.error, tolerance);
 }
 
 TEST(Simulation, DeferredKicksGiveTheSameRunOfAPlateWithFixedEdges) {
@@ -165,7 +168,8 @@ TEST(Simulation, RestartWithSupportsAndBarsIsExact) {
     restarted.step();
   }
   EXPECT_GE(test::expect_same_state(uninterrupted, restarted), 20);
-  EXPECT_EQ(restarted.history().energy.external, uninterrupted.history().energy.external);
+  const double external = uninterrupted.history().energy.external;
+  EXPECT_NEAR(restarted.history().energy.external, external, test::run_tolerance(1e-12) * external);
 }
 
 // A run repeats bitwise on any number of threads: no state update adds in a run-dependent order
@@ -174,7 +178,9 @@ TEST(Simulation, RestartWithSupportsAndBarsIsExact) {
 // its batch cells in Topology order, candidate lists are sorted). Two runs of a case, stepped as
 // run_case steps, are compared view by view, every byte. Only the energy sums over dynamically
 // scheduled chunks join in a run-dependent order (scatter.hpp): they feed no state and are
-// compared at round-off. Returns the first run's record and its conversion count.
+// compared at round-off. On the device path (atomic node sums) the runs part at round-off:
+// 1e-10 of each view's largest value there (measured: up to 1.3e-12 after the 500 steps of the
+// shattering lattice). Returns the first run's record and its conversion count.
 std::pair<HistoryRecord, long> expect_bitwise_repeat(const Case& c, int steps) {
   Simulation first(c), second(c);
   for (int s = 0; s < steps; ++s) {
@@ -185,7 +191,7 @@ std::pair<HistoryRecord, long> expect_bitwise_repeat(const Case& c, int steps) {
   EXPECT_EQ(second.conversions(), first.conversions());
   EXPECT_EQ(h2.count.broken_bonds, h1.count.broken_bonds);
   EXPECT_EQ(h2.count.contacts, h1.count.contacts);
-  const int views = test::expect_same_state(first, second);
+  const int views = test::expect_same_state(first, second, 1e-10);
   EXPECT_GE(views, 40);
   const double energy = h1.energy.kinetic + h1.energy.internal;  // J (the projectile's, mostly)
   EXPECT_GT(h1.energy.kinetic, 0.0);
@@ -257,15 +263,17 @@ TEST(Simulation, RestoreAfterConversionsIsExact) {
     reference.step(true);
     detour.step(true);
   }
+  const double tolerance = test::run_tolerance(1e-12);
   EXPECT_EQ(detour.steps(), reference.steps());
-  EXPECT_EQ(detour.time(), reference.time());
-  EXPECT_EQ(detour.dt(), reference.dt());
+  EXPECT_NEAR(detour.time(), reference.time(), tolerance * reference.time());
+  EXPECT_NEAR(detour.dt(), reference.dt(), tolerance * reference.dt());
   EXPECT_EQ(detour.conversions(), reference.conversions());
   EXPECT_GE(test::expect_same_state(reference, detour), 40);
   const HistoryRecord hr = reference.history(), hd = detour.history();
-  EXPECT_EQ(hd.energy.external, hr.energy.external);
-  EXPECT_EQ(hd.energy.fracture, hr.energy.fracture);
-  EXPECT_EQ(hd.energy.conversion, hr.energy.conversion);
+  EXPECT_NEAR(hd.energy.external, hr.energy.external, tolerance * std::fabs(hr.energy.external));
+  EXPECT_NEAR(hd.energy.fracture, hr.energy.fracture, tolerance * std::fabs(hr.energy.fracture));
+  EXPECT_NEAR(hd.energy.conversion, hr.energy.conversion,
+              tolerance * std::fabs(hr.energy.conversion));
   EXPECT_EQ(hd.count.broken_bonds, hr.count.broken_bonds);
 }
 

@@ -320,9 +320,11 @@ TEST(BondForces, SimdBatchesMatchBondByBond) {
     }
     for (int pass = 0; pass < 2; ++pass) {
       SCOPED_TRACE(pass == 0 ? "batches of runs" : "gathered batches");
-      // The batches run bond()'s steps lane by lane: the same numbers, bit for bit.
-      EXPECT_EQ(test::max_relative_difference(r[pass].f, r[2].f), 0.0);
-      EXPECT_EQ(test::max_relative_difference(r[pass].moment, r[2].moment), 0.0);
+      // The batches run bond()'s steps lane by lane: the same numbers, bit for bit. (The device
+      // path has no batches and adds the node sums atomically: round-off of at most 8 terms.)
+      EXPECT_LE(test::max_relative_difference(r[pass].f, r[2].f), test::run_tolerance(1e-14));
+      EXPECT_LE(test::max_relative_difference(r[pass].moment, r[2].moment),
+                test::run_tolerance(1e-14));
       EXPECT_EQ(test::max_relative_difference(r[pass].fn, r[2].fn), 0.0);
       EXPECT_EQ(test::max_relative_difference(r[pass].fs, r[2].fs), 0.0);
       EXPECT_EQ(r[pass].onset, r[2].onset);
