@@ -1,7 +1,8 @@
 // fracta command line: run | check | info (README.md, docs/output.md for the exit codes).
 // Exit codes: 0 success, 2 bad input, 3 numerical failure (after writing the last good state),
 // 4 I/O error (a full disk, an unwritable path: nothing written before is lost), 5 internal
-// error (after writing the last good state), 130 / 143 stopped by SIGINT / SIGTERM (after
+// error (after writing the last good state), 6 the Kokkos back end could not start (no usable
+// GPU, a driver older than the CUDA runtime), 130 / 143 stopped by SIGINT / SIGTERM (after
 // writing a checkpoint and a final frame).
 #include <unistd.h>
 #include <CLI/CLI.hpp>
@@ -9,6 +10,8 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -108,7 +111,22 @@ int main(int argc, char** argv) {
   }
   int kokkos_argc = static_cast<int>(kokkos_args.size());
   kokkos_args.push_back(nullptr);
-  Kokkos::ScopeGuard kokkos(kokkos_argc, kokkos_args.data());
+  // Kokkos throws when it cannot start: a bad --kokkos-* option (bad input, exit 2) or a device
+  // it cannot use (exit 6), e.g. a CUDA build on a machine without a GPU or with an old driver.
+  std::optional<Kokkos::ScopeGuard> kokkos;
+  try {
+    kokkos.emplace(kokkos_argc, kokkos_args.data());
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    if (dynamic_cast<const std::invalid_argument*>(&e) != nullptr ||
+        what.find("command line argument") != std::string::npos) {
+      std::fprintf(stderr, "fracta: error: a --kokkos-* option was refused: %s\n", e.what());
+      return 2;
+    }
+    std::fprintf(stderr, "fracta: the Kokkos back end (%s) could not start: %s\n",
+                 fracta::ExecSpace::name(), e.what());
+    return 6;
+  }
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) == "--kokkos-help") return 0;  // Kokkos printed its options
 
@@ -116,7 +134,8 @@ int main(int argc, char** argv) {
   app.footer(
       "Threads: OMP_NUM_THREADS=N or --kokkos-threads=N; --kokkos-help lists Kokkos' "
       "options.\nExit codes: 0 done, 2 bad input, 3 numerical failure, 4 I/O error (full disk, "
-      "unwritable path), 5 internal error, 130 / 143 stopped by SIGINT / SIGTERM.\nReference: "
+      "unwritable path), 5 internal error, 6 the Kokkos back end could not start (no usable "
+      "GPU), 130 / 143 stopped by SIGINT / SIGTERM.\nReference: "
       "README.md and docs/.");
   app.require_subcommand(1);
   std::string case_path, output_path, restart_path;
@@ -127,8 +146,7 @@ int main(int argc, char** argv) {
       "OUT.ckpt.h5 every T of simulated time and at the end (replaced atomically).\n"
       "SIGINT (Ctrl-C) / SIGTERM: stop after the current step, write a checkpoint and a final "
       "frame, exit 130 / 143.\nExit codes: 0 done, 2 bad input, 3 numerical failure, 4 I/O error, "
-      "5 "
-      "internal error.");
+      "5 internal error, 6 the Kokkos back end could not start.");
   run->add_option("case", case_path, "case file (TOML)")->required();
   run->add_option("-o,--output", output_path, "output file (default: the case's output.file)");
   run->add_option("--restart", restart_path,

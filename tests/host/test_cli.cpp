@@ -218,6 +218,18 @@ TEST(Cli, HelpIsFractasOwn) {
   EXPECT_NE(kokkos_help.out.find("--kokkos-threads"), std::string::npos) << kokkos_help.out;
 }
 
+// A Kokkos option that Kokkos refuses is bad input: a message and exit 2, not an abort (Kokkos
+// throws from its initialisation).
+TEST(Cli, RefusedKokkosOptionIsBadInput) {
+  for (const char* args : {"info --kokkos-threads=abc", "info --kokkos-threads"}) {
+    const Result r = run(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+    EXPECT_NE(r.out.find("fracta: error: a --kokkos-* option was refused"), std::string::npos)
+        << args << "\n"
+        << r.out;
+  }
+}
+
 TEST(Cli, PlateCaseRunsAndInfoPrintsBackend) {
   const Result info = run("info");
   EXPECT_EQ(info.code, 0);
