@@ -39,41 +39,10 @@ export PATH=$cuda_root/bin:$PATH
 export CUDA_ROOT=$cuda_root  # nvcc_wrapper takes nvcc from there
 
 # --- 1. Kokkos with CUDA --------------------------------------------------------------------
-patches=("$repo"/scripts/patches/kokkos-3.4.1-cuda13-*.patch)
-nvcc_version=$("$nvcc" --version | sed -n 's/.*release \([0-9.]*\).*/\1/p')
-stamp_want="kokkos 3.4.1 cuda+serial sm_80 nvcc $nvcc_version patches $(cat "${patches[@]}" | sha256sum | cut -c1-16)"
 t0=$(now)
-if [ -f "$kokkos_prefix/.fracta-stamp" ] && [ "$(cat "$kokkos_prefix/.fracta-stamp")" = "$stamp_want" ]; then
-  say "Kokkos with CUDA already installed in $kokkos_prefix"
-else
-  say "building Kokkos 3.4.1 (CUDA sm_80 + Serial) into $kokkos_prefix (several minutes, once)"
-  work=$(mktemp -d)
-  trap 'rm -rf "$work"' EXIT
-  # shellcheck source=scripts/kokkos_source.sh
-  . "$repo/scripts/kokkos_source.sh"
-  fracta_kokkos_source "$prefix/src" "$work/kokkos"
-  # Idempotent: a patch that reverses cleanly is already in (a reused source tree).
-  for p in "${patches[@]}"; do
-    if patch -d "$work/kokkos" -p1 -R --dry-run -s -f <"$p" >/dev/null 2>&1; then
-      say "already applied: $(basename "$p")"
-    else
-      patch -d "$work/kokkos" -p1 -s -f <"$p" || { say "patch failed: $p"; exit 1; }
-      say "applied $(basename "$p")"
-    fi
-  done
-  rm -rf "$kokkos_prefix"
-  cmake -S "$work/kokkos" -B "$work/build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
-    -DCMAKE_CXX_STANDARD=17 -DCMAKE_CXX_EXTENSIONS=OFF \
-    -DCMAKE_CXX_COMPILER="$work/kokkos/bin/nvcc_wrapper" \
-    -DCMAKE_INSTALL_PREFIX="$kokkos_prefix" -DKokkos_ENABLE_SERIAL=ON \
-    -DKokkos_ENABLE_CUDA=ON -DKokkos_ENABLE_CUDA_LAMBDA=ON -DKokkos_ARCH_AMPERE80=ON \
-    >"$work/configure.log" 2>&1 || { tail -50 "$work/configure.log" >&2; exit 1; }
-  cmake --build "$work/build" -j "$jobs" >"$work/build.log" 2>&1 ||
-    { grep -E 'error|Error' "$work/build.log" | head -40 >&2; exit 1; }
-  cmake --install "$work/build" >/dev/null
-  printf '%s\n' "$stamp_want" >"$kokkos_prefix/.fracta-stamp"
-  say "Kokkos with CUDA installed"
-fi
+# shellcheck source=scripts/kokkos_source.sh
+. "$repo/scripts/kokkos_source.sh"
+fracta_kokkos_cuda "$repo" "$prefix" "$kokkos_prefix" AMPERE80 sm_80
 kokkos_seconds=$(elapsed "$t0")
 
 # --- 2. fracta's kernels, compile only ------------------------------------------------------

@@ -299,6 +299,24 @@ TEST(Simulation, RestartCommandRepeatsTheOverrides) {
             "simulation.end_time=5e-6 'simulation.title=two words' 'body.slab.x=it'\\''s'");
 }
 
+// Velocity, position, spin, rotation and a sum of the force terms of every node, seven values a
+// node, on the host. (A free function: CUDA allows no device lambda inside a test body.)
+Kokkos::View<double*, HostSpace> pack_node_values(const Nodes& nodes) {
+  View<double*> out("out", 7 * nodes.count);
+  Kokkos::parallel_for(
+      "test_pack", Kokkos::RangePolicy<ExecSpace>(0, nodes.count), KOKKOS_LAMBDA(const int i) {
+        const double values[7] = {nodes.v(i, 0),
+                                  nodes.v(i, 1),
+                                  nodes.x(i, 0),
+                                  nodes.x(i, 1),
+                                  nodes.spin(i),
+                                  nodes.rotation(i),
+                                  nodes.f(i, 0) + nodes.f_ext(i, 1) + nodes.moment(i)};
+        for (int k = 0; k < 7; ++k) out(7 * i + k) = values[k];
+      });
+  return Kokkos::create_mirror_view_and_copy(HostSpace(), out);
+}
+
 // The fused kernel against the two half kicks it replaces, on arbitrary node data; the CPU forms
 // of both (eight nodes as Double8 lanes) against their node-by-node forms too. 54 nodes: six
 // batches of eight and a tail of six, some nodes fixed in x or y.
@@ -335,20 +353,7 @@ TEST(Integrate, KickKickDriftEqualsTheTwoHalfKicks) {
     work = mode == split || mode == split_node_by_node
                ? kick(n, dt_last, mode == split) + kick_drift(n, dt, mode == split)
                : kick_kick_drift(n, dt_last, dt, mode == lanes);
-    View<double*> out("out", 7 * n.count);
-    const Nodes nodes = n;
-    Kokkos::parallel_for(
-        "test_pack", Kokkos::RangePolicy<ExecSpace>(0, n.count), KOKKOS_LAMBDA(const int i) {
-          const double values[7] = {nodes.v(i, 0),
-                                    nodes.v(i, 1),
-                                    nodes.x(i, 0),
-                                    nodes.x(i, 1),
-                                    nodes.spin(i),
-                                    nodes.rotation(i),
-                                    nodes.f(i, 0) + nodes.f_ext(i, 1) + nodes.moment(i)};
-          for (int k = 0; k < 7; ++k) out(7 * i + k) = values[k];
-        });
-    return Kokkos::create_mirror_view_and_copy(HostSpace(), out);
+    return pack_node_values(n);
   };
   ASSERT_EQ(n.count, 54);
   double w_split = 0.0, w_split_node = 0.0, w_fused = 0.0, w_node = 0.0;
