@@ -17,7 +17,8 @@
 // Usage: penetration --level L [--steps N] [--warmup W] [--base-cell H] [--gap CELLS]
 //                    [--case FILE] [--json FILE] [--kernels N]
 // Prints one human-readable line and writes one JSON object (to --json or stdout). --kernels N
-// also prints the N kernels that took the most time in the window (stderr): a profiling aid.
+// also prints the N kernels that took the most time in the window and the launches (by kind) and
+// deep copies per step, with and without conversion (stderr): a profiling aid.
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -170,8 +171,21 @@ int main(int argc, char** argv) {
     double next_frame = sim.time() + (c.sim.output_interval > 0 ? c.sim.output_interval : 1.0);
     const auto t_run = Clock::now();
     long steps = 0;
+    // Launch counts of the steps alone (output and snapshots apart), split by whether the step
+    // converted elements (--kernels).
+    bench::LaunchCounts quiet_counts, converting_counts;
+    long quiet_steps = 0, converting_steps = 0;
     for (; steps < o.steps && !sim.failed(); ++steps) {
+      const bench::LaunchCounts before = bench::KernelTimer::counts();
+      const long conversions_before = sim.conversions();
       sim.step(/*defer_kick=*/true);  // as run_case
+      if (sim.conversions() > conversions_before) {
+        converting_counts += bench::KernelTimer::counts() - before;
+        ++converting_steps;
+      } else {
+        quiet_counts += bench::KernelTimer::counts() - before;
+        ++quiet_steps;
+      }
       const bool history_due = c.sim.history_interval <= 0 || sim.time() >= next_history - eps;
       const bool frame_due = sim.time() >= next_frame - eps;
       const bool snapshot_due = sim.steps() % 100 == 0;
@@ -248,6 +262,17 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "%-48s %10.2f %8ld %10.1f\n", top[k].second.c_str(), 1e3 * t.seconds,
                      t.calls, 1e6 * t.seconds / t.calls);
       }
+      const auto per_step = [](const char* what, const bench::LaunchCounts& n, long count) {
+        if (count == 0) return;
+        const double k = 1.0 / count;
+        std::fprintf(stderr,
+                     "per %s step (%ld): %.1f launches (%.1f for, %.1f reduce, %.1f scan), "
+                     "%.1f deep copies\n",
+                     what, count, k * n.launches(), k * n.fors, k * n.reduces, k * n.scans,
+                     k * n.deep_copies);
+      };
+      per_step("quiet", quiet_counts, quiet_steps);
+      per_step("converting", converting_counts, converting_steps);
     }
 
     std::fprintf(stderr,

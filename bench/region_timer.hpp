@@ -73,37 +73,72 @@ class RegionTimer {
   }
 };
 
+// What the host asks of the device, counted through the same callbacks. On a GPU each
+// parallel_reduce into a host value and each deep_copy between host and device makes the host
+// wait for the device (a round trip); parallel_for and scan launches queue without waiting.
+struct LaunchCounts {
+  long fors = 0, reduces = 0, scans = 0, deep_copies = 0;
+  long launches() const { return fors + reduces + scans; }
+  LaunchCounts operator-(const LaunchCounts& o) const {
+    return {fors - o.fors, reduces - o.reduces, scans - o.scans, deep_copies - o.deep_copies};
+  }
+  LaunchCounts& operator+=(const LaunchCounts& o) {
+    fors += o.fors, reduces += o.reduces, scans += o.scans, deep_copies += o.deep_copies;
+    return *this;
+  }
+};
+
 // Wall time per kernel name (parallel_for / reduce / scan), through the same tools callbacks:
 // where a phase's time goes, kernel by kernel. A kernel's time runs from its launch to its end
-// (on OpenMP the launch is synchronous). `calls` counts launches.
+// (on OpenMP the launch is synchronous). `calls` counts launches; counts() the launches by kind
+// and the deep copies.
 class KernelTimer {
  public:
   static void install() {
     namespace T = Kokkos::Tools::Experimental;
-    T::set_begin_parallel_for_callback(&begin);
+    T::set_begin_parallel_for_callback(&begin_for);
     T::set_end_parallel_for_callback(&end);
-    T::set_begin_parallel_reduce_callback(&begin);
+    T::set_begin_parallel_reduce_callback(&begin_reduce);
     T::set_end_parallel_reduce_callback(&end);
-    T::set_begin_parallel_scan_callback(&begin);
+    T::set_begin_parallel_scan_callback(&begin_scan);
     T::set_end_parallel_scan_callback(&end);
+    T::set_begin_deep_copy_callback(&deep_copy);
   }
   static void reset() { state().totals.clear(); }
   static const std::map<std::string, RegionTotals>& totals() { return state().totals; }
+  static LaunchCounts counts() { return state().counts; }
 
  private:
   using Clock = std::chrono::steady_clock;
   struct State {
     std::vector<std::pair<std::string, Clock::time_point>> open;  // indexed by kernel id
     std::map<std::string, RegionTotals> totals;
+    LaunchCounts counts;  // since install()
   };
   static State& state() {
     static State s;
     return s;
   }
-  static void begin(const char* name, const uint32_t, uint64_t* id) {
+  static void begin(const char* name, uint64_t* id) {
     State& s = state();
     *id = s.open.size();
     s.open.emplace_back(name, Clock::now());
+  }
+  static void begin_for(const char* name, const uint32_t, uint64_t* id) {
+    ++state().counts.fors;
+    begin(name, id);
+  }
+  static void begin_reduce(const char* name, const uint32_t, uint64_t* id) {
+    ++state().counts.reduces;
+    begin(name, id);
+  }
+  static void begin_scan(const char* name, const uint32_t, uint64_t* id) {
+    ++state().counts.scans;
+    begin(name, id);
+  }
+  static void deep_copy(Kokkos::Tools::SpaceHandle, const char*, const void*,
+                        Kokkos::Tools::SpaceHandle, const char*, const void*, uint64_t) {
+    ++state().counts.deep_copies;
   }
   static void end(const uint64_t id) {
     State& s = state();
