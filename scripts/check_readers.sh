@@ -3,11 +3,15 @@
 # the paper's plate (FE and bonded discs) to 3 us in double precision, single precision and single
 # precision with compression 1; then scripts/plot.py (histories and a frame) and
 # scripts/cracks.py (fragments) on each, and a check that each .xdmf declares the stored types
-# and that the single-precision frames are the double ones rounded to float32.
-# Usage: scripts/check_readers.sh FRACTA_EXE
+# and that the single-precision frames are the double ones rounded to float32: exactly on the
+# host code path, where the runs repeat to the bit; within 1e-6 of the largest value for a build
+# that takes the device path (atomic sums: the runs agree to round-off, and a float32 rounding
+# may land one unit apart).
+# Usage: scripts/check_readers.sh FRACTA_EXE [host|device]
 set -euo pipefail
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-fracta=${1:?usage: check_readers.sh FRACTA_EXE}
+fracta=${1:?usage: check_readers.sh FRACTA_EXE [host|device]}
+code_path=${2:-host}
 work=$(mktemp -d "${TMPDIR:-/tmp}/fracta_readers_XXXXXX")
 trap 'rm -rf "$work"' EXIT
 py=/usr/bin/python3
@@ -22,10 +26,10 @@ for setting in double:0 single:0 single:1; do
     -o "$work/plots_$setting" >/dev/null
   "$py" "$repo/scripts/cracks.py" "$out" --seed 0 0 --fragments >/dev/null
 done
-"$py" - "$work" <<'EOF'
+"$py" - "$work" "$code_path" <<'EOF'
 import re, sys
 import h5py, numpy as np
-work = sys.argv[1]
+work, code_path = sys.argv[1], sys.argv[2]
 frames = {}
 for name in ("double_0", "single_0", "single_1"):
     path = f"{work}/{name}.h5"
@@ -46,7 +50,13 @@ for name in ("single_0", "single_1"):
     for k, d in frames["double_0"].items():
         s = frames[name][k]
         assert s.dtype == np.float32, f"{name}: {k} is {s.dtype}"
-        assert np.array_equal(s, d.astype(np.float32)), f"{name}: {k} is not the double rounded"
+        if code_path == "host":
+            assert np.array_equal(s, d.astype(np.float32)), \
+                f"{name}: {k} is not the double rounded"
+        else:
+            gap = np.max(np.abs(s.astype(np.float64) - d.astype(np.float32)))
+            assert gap <= 1e-6 * np.max(np.abs(d)), \
+                f"{name}: {k} is {gap} from the double rounded"
 print("readers: plot.py and cracks.py read double, single and deflated frames; "
       "the .xdmf types match")
 EOF
