@@ -179,12 +179,10 @@ int main(int argc, char** argv) {
       const bench::LaunchCounts before = bench::KernelTimer::counts();
       const long conversions_before = sim.conversions();
       sim.step(/*defer_kick=*/true);  // as run_case
-      if (sim.conversions() > conversions_before) {
-        converting_counts += bench::KernelTimer::counts() - before;
-        ++converting_steps;
-      } else {
-        quiet_counts += bench::KernelTimer::counts() - before;
-        ++quiet_steps;
+      if (o.kernels > 0) {
+        const bool converted = sim.conversions() > conversions_before;
+        (converted ? converting_counts : quiet_counts) += bench::KernelTimer::counts() - before;
+        ++(converted ? converting_steps : quiet_steps);
       }
       const bool history_due = c.sim.history_interval <= 0 || sim.time() >= next_history - eps;
       const bool frame_due = sim.time() >= next_frame - eps;
