@@ -16,7 +16,9 @@
 //
 // Usage: penetration --level L [--steps N] [--warmup W] [--base-cell H] [--gap CELLS]
 //                    [--case FILE] [--json FILE] [--kernels N]
-// Prints one human-readable line and writes one JSON object (to --json or stdout). --kernels N
+// Prints one human-readable line, the device memory held in views after set-up by entity (nodes,
+// elements, lattice cells, bonds, contact, the failure snapshot; through the Kokkos tools'
+// allocation callbacks) and writes one JSON object (to --json or stdout). --kernels N
 // also prints the N kernels that took the most time in the window and the launches (by kind) and
 // deep copies per step, with and without conversion (stderr): a profiling aid.
 #include <sys/resource.h>
@@ -30,6 +32,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -52,6 +55,31 @@ double peak_rss_mb() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
   return u.ru_maxrss / 1024.0;  // Linux reports kB
+}
+
+// Resident memory now (MB), from /proc/self/statm; 0 where it cannot be read.
+double rss_now_mb() {
+  std::ifstream statm("/proc/self/statm");
+  double pages_total = 0, pages_resident = 0;
+  if (!(statm >> pages_total >> pages_resident)) return 0.0;
+  return pages_resident * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
+}
+
+// The entity a view belongs to, from its label: where the state's memory goes.
+std::string view_group(const std::string& label) {
+  const auto has_prefix = [&](const char* p) { return label.rfind(p, 0) == 0; };
+  if (label.size() > 9 && label.compare(label.size() - 9, 9, "_snapshot") == 0) return "snapshot";
+  if (has_prefix("fracta::bond_") || has_prefix("fracta::node_bond") ||
+      has_prefix("fracta::element_bonds") || has_prefix("fracta::list_"))
+    return "bonds";
+  if (has_prefix("fracta::cell_")) return "cells";
+  if (has_prefix("fracta::contact_")) return "contact";
+  if (has_prefix("fracta::node_") || has_prefix("fracta::particle_")) return "nodes";
+  if (has_prefix("fracta::element_") || has_prefix("fracta::qp_") ||
+      has_prefix("fracta::reference_") || has_prefix("fracta::active_") ||
+      has_prefix("fracta::new_cells") || has_prefix("fracta::converted_"))
+    return "elements";
+  return "other";
 }
 
 // Default timed steps per level: small at high levels (level 8 has 1.2e6 nodes).
@@ -122,6 +150,7 @@ int main(int argc, char** argv) {
   const Options o = parse(argc, argv);
   bench::RegionTimer::install();
   if (o.kernels > 0) bench::KernelTimer::install();
+  bench::ViewMemory::install();
 
   const double h = o.base_cell / o.level;
   std::vector<std::string> set = {"simulation.end_time=1.0"};  // never reached
@@ -141,6 +170,12 @@ int main(int argc, char** argv) {
   Simulation sim(c);
   const double setup_seconds = seconds_since(t_setup);
   const double rss_after_setup = peak_rss_mb();
+  // The views held once the model is built (the t = 0 snapshot included), by entity (MB).
+  std::map<std::string, double> view_mb;
+  for (const auto& [label, bytes] : bench::ViewMemory::live())
+    view_mb[view_group(label)] += bytes / 1e6;
+  double view_total_mb = 0;
+  for (const auto& [group, mb] : view_mb) view_total_mb += mb;
 
   char tmpl[] = "/tmp/fracta_bench_XXXXXX";
   const int fd = mkstemp(tmpl);
@@ -240,7 +275,10 @@ int main(int argc, char** argv) {
        << ", \"entity_steps_per_s\": " << num((elements + particles) * steps_per_s)
        << ", \"bond_steps_per_s\": " << num(bonds * steps_per_s)
        << ", \"rss_after_setup_mb\": " << num(rss_after_setup)
-       << ", \"peak_rss_mb\": " << num(peak_rss_mb()) << ", \"phase_s\": {";
+       << ", \"peak_rss_mb\": " << num(peak_rss_mb()) << ", \"rss_now_mb\": " << num(rss_now_mb())
+       << ", \"view_peak_mb\": " << num(bench::ViewMemory::peak() / 1e6) << ", \"view_mb\": {";
+    for (const auto& [group, mb] : view_mb) js << "\"" << group << "\": " << num(mb) << ", ";
+    js << "\"total\": " << num(view_total_mb) << "}, \"phase_s\": {";
     for (const char* p : phases)
       js << "\"" << (p + 8) << "\": " << num(bench::RegionTimer::get(p).seconds) << ", ";
     js << "\"output\": " << num(output_seconds)
@@ -280,6 +318,11 @@ int main(int argc, char** argv) {
                  o.level, h * 1e3, ExecSpace().concurrency(), sim.model().nodes.count, elements,
                  particles, bonds, contacts, setup_seconds, steps, run_seconds, steps_per_s,
                  peak_rss_mb());
+    std::fprintf(stderr, "views after set-up (MB):");
+    for (const auto& [group, mb] : view_mb) std::fprintf(stderr, " %s %.0f,", group.c_str(), mb);
+    std::fprintf(stderr, " total %.0f (%.0f B per node); largest view total %.0f MB\n",
+                 view_total_mb, 1e6 * view_total_mb / sim.model().nodes.count,
+                 bench::ViewMemory::peak() / 1e6);
     if (o.json_path.empty()) {
       std::printf("%s\n", js.str().c_str());
     } else {

@@ -150,4 +150,42 @@ class KernelTimer {
   }
 };
 
+// Device memory held in Kokkos views, by label, through the tools' allocation callbacks: what
+// the state of a run costs, entity by entity. `live` is the bytes held now per label, `peak` the
+// largest total held at any time since install().
+class ViewMemory {
+ public:
+  static void install() {
+    namespace T = Kokkos::Tools::Experimental;
+    T::set_allocate_data_callback(&allocate);
+    T::set_deallocate_data_callback(&deallocate);
+  }
+  static const std::map<std::string, double>& live() { return state().live; }
+  static double total() { return state().total; }
+  static double peak() { return state().peak; }
+
+ private:
+  struct State {
+    std::map<std::string, double> live;
+    double total = 0, peak = 0;
+  };
+  static State& state() {
+    static State s;
+    return s;
+  }
+  static void allocate(Kokkos::Tools::SpaceHandle, const char* label, const void*,
+                       const uint64_t size) {
+    State& s = state();
+    s.live[label] += static_cast<double>(size);
+    s.total += static_cast<double>(size);
+    s.peak = std::max(s.peak, s.total);
+  }
+  static void deallocate(Kokkos::Tools::SpaceHandle, const char* label, const void*,
+                         const uint64_t size) {
+    State& s = state();
+    s.live[label] -= static_cast<double>(size);
+    s.total -= static_cast<double>(size);
+  }
+};
+
 }  // namespace fracta::bench

@@ -301,33 +301,76 @@ inline double run_tolerance(double device) {
   return kBitwiseRuns ? 0.0 : device;
 }
 
-// Every view a step mutates (Simulation::state, state_views.hpp) equal in two runs: byte by byte
-// on the host path; on the device path, floating-point views within `device_relative` of the
-// first run's largest magnitude in the view, integer views exactly (a decision such as a bond
-// break that round-off flipped shows there). Returns how many views were compared.
+// The state a step mutates (Simulation::state, state_views.hpp), copied to the host: every
+// view's values by name, of a list only its used part (the entries beyond a list's length are
+// not state: nothing reads them, and a restore leaves them as they are).
+struct StateCopy {
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> reals;  // empty for an integer view
+  std::vector<std::vector<int>> ints;      // empty for a floating-point view
+  ListCounts lists;
+};
+
+inline StateCopy copy_state(Simulation& sim) {
+  StateCopy copy;
+  StateViews live = sim.state();
+  copy.lists = ListCounts::of(sim.model());
+  const ListCounts& lists = copy.lists;
+  for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
+    const auto host = Kokkos::create_mirror_view_and_copy(HostSpace(), view);
+    using Value = typename std::decay_t<decltype(host)>::non_const_value_type;
+    size_t size = host.span();
+    if (state_rows(name) == StateRows::list_prefix && size > 0) {
+      const std::string_view n = name;
+      size = static_cast<size_t>(n == "converted"             ? lists.converted
+                                 : n == "bonds.used"          ? lists.used_bonds
+                                 : n == "nodes.particle_list" ? lists.particles
+                                                              : lists.active_elements);
+    }
+    copy.names.emplace_back(name);
+    copy.reals.emplace_back();
+    copy.ints.emplace_back();
+    if constexpr (std::is_floating_point_v<Value>)
+      copy.reals.back().assign(host.data(), host.data() + size);
+    else
+      copy.ints.back().assign(host.data(), host.data() + size);
+  });
+  return copy;
+}
+
+// Two copies of the state equal: byte by byte where `relative` is 0; else floating-point views
+// within `relative` of the first copy's largest magnitude in the view, integer views exactly.
+// Returns how many views were compared.
+inline int expect_same_state(const StateCopy& a, const StateCopy& b, double relative) {
+  EXPECT_EQ(a.lists.converted, b.lists.converted);
+  EXPECT_EQ(a.lists.active_elements, b.lists.active_elements);
+  EXPECT_EQ(a.lists.used_bonds, b.lists.used_bonds);
+  EXPECT_EQ(a.lists.particles, b.lists.particles);
+  EXPECT_EQ(a.names, b.names);
+  if (a.names != b.names) return 0;
+  for (size_t k = 0; k < a.names.size(); ++k) {
+    const std::string& name = a.names[k];
+    EXPECT_EQ(a.reals[k].size(), b.reals[k].size()) << name;
+    EXPECT_EQ(a.ints[k], b.ints[k]) << name;
+    if (a.reals[k].size() != b.reals[k].size() || a.reals[k].empty()) continue;
+    if (relative > 0.0)
+      EXPECT_LE(max_relative_difference(a.reals[k], b.reals[k]), relative) << name;
+    else
+      EXPECT_EQ(
+          std::memcmp(a.reals[k].data(), b.reals[k].data(), a.reals[k].size() * sizeof(double)), 0)
+          << name;
+  }
+  return static_cast<int>(a.names.size());
+}
+
+// Every view a step mutates equal in two runs: byte by byte on the host path; on the device path,
+// floating-point views within `device_relative` of the first run's largest magnitude in the
+// view, integer views exactly (a decision such as a bond break that round-off flipped shows
+// there). Returns how many views were compared.
 inline int expect_same_state(Simulation& first, Simulation& second,
                              double device_relative = 1e-12) {
-  StateViews a = first.state(), b = second.state();
-  int views = 0;
-  for_each_state_view(a, b, [&](const char* name, const auto& va, const auto& vb) {
-    const auto ha = Kokkos::create_mirror_view_and_copy(HostSpace(), va);
-    const auto hb = Kokkos::create_mirror_view_and_copy(HostSpace(), vb);
-    ASSERT_EQ(ha.span(), hb.span()) << name;
-    using Value = typename std::decay_t<decltype(ha)>::non_const_value_type;
-    ++views;
-    // An empty view may have no storage at all (memcmp must not see a null pointer).
-    if (ha.span() == 0) return;
-    if constexpr (std::is_floating_point_v<Value>) {
-      if (!kBitwiseRuns) {
-        const std::vector<double> da(ha.data(), ha.data() + ha.span()),
-            db(hb.data(), hb.data() + hb.span());
-        EXPECT_LE(max_relative_difference(da, db), device_relative) << name;
-        return;
-      }
-    }
-    EXPECT_EQ(std::memcmp(ha.data(), hb.data(), ha.span() * sizeof(Value)), 0) << name;
-  });
-  return views;
+  return expect_same_state(copy_state(first), copy_state(second),
+                           kBitwiseRuns ? 0.0 : device_relative);
 }
 
 }  // namespace fracta::test

@@ -98,13 +98,6 @@ double store_forces_after_and_work(const Nodes& nodes, const View<const int*>& d
   return work;
 }
 
-template <class V>
-V clone(const V& src) {
-  V dst(Kokkos::view_alloc(Kokkos::WithoutInitializing, src.label() + "_snapshot"), src.layout());
-  Kokkos::deep_copy(dst, src);
-  return dst;
-}
-
 std::string format_duration(double s) {
   char buf[32];
   // Over 30 years is no ETA; far larger values would not fit the long (undefined behaviour).
@@ -743,30 +736,16 @@ StateViews Simulation::state_views() {
 
 void Simulation::save_snapshot() {
   finish_kick();
-  StateViews live = state_views();
-  const bool first = !snapshot_.taken;
-  if (first) snapshot_.views = live;
-  for_each_state_view(live, snapshot_.views, [first](const char*, const auto& from, auto& saved) {
-    if (first)
-      saved = clone(from);
-    else
-      Kokkos::deep_copy(saved, from);
-  });
+  snapshot_.state.save(model_, state_views());
   snapshot_.ledger = ledger_;
-  snapshot_.lists = ListCounts::of(model_);
   snapshot_.rigid = model_.rigid;
-  snapshot_.taken = true;
 }
 
 void Simulation::restore_snapshot() {
   kick_pending_ = false;    // the snapshot holds a full step
   stable_dt_.invalidate();  // the bonds and radii are replaced
-  StateViews live = state_views();
-  for_each_state_view(live, snapshot_.views, [](const char*, const auto& to, const auto& saved) {
-    Kokkos::deep_copy(to, saved);
-  });
+  snapshot_.state.restore(model_, state_views());
   ledger_ = snapshot_.ledger;
-  snapshot_.lists.apply_to(model_);
   model_.rigid = snapshot_.rigid;
   if (model_.contacts) {
     model_.contacts->invalidate();

@@ -8,6 +8,7 @@
 #include "host/ledger.hpp"
 #include "host/model.hpp"
 #include "host/output.hpp"
+#include "host/snapshot.hpp"
 #include "host/state_views.hpp"
 #include "kernels/fragments.hpp"
 
@@ -57,6 +58,7 @@ class Simulation {
   // The last good state, kept so a numerical failure can still write it.
   void save_snapshot();
   void restore_snapshot();
+  double snapshot_bytes() const { return snapshot_.state.bytes(); }  // its device memory (B)
 
   Model& model() { return model_; }
   const Model& model() const { return model_; }
@@ -124,14 +126,12 @@ class Simulation {
   // reading a zero counter is only slower.
   bool conversion_flagged_ = false;
 
-  // The last good state: the views a step mutates, the ledger, the list lengths and the rigid
-  // bodies (taken after the kick is finished).
+  // The last good state: the rows of the views a step mutates and the list lengths
+  // (snapshot.hpp), the ledger and the rigid bodies (taken after the kick is finished).
   struct Snapshot {
-    StateViews views;
+    StateSnapshot state;
     Ledger ledger;
-    ListCounts lists;
     std::vector<RigidBody> rigid;
-    bool taken = false;
   } snapshot_;
 };
 

@@ -8,6 +8,9 @@
 // bonds.state), load tables. Host-side state (Simulation scalars, rigid bodies, the contact
 // candidate list) is handled by the users of this list.
 #pragma once
+#include <initializer_list>
+#include <string_view>
+
 #include "kernels/state.hpp"
 
 namespace fracta {
@@ -74,6 +77,42 @@ void for_each_state_view(StateViews& a, StateViews& b, F&& f) {
   f("nodes.particle_list", n.particle_list, sn.particle_list);  // [0, nodes.particle_count)
   f("converted", a.converted, b.converted);
   f("contact_force_previous", a.contact_force_previous, b.contact_force_previous);
+}
+
+// The rows of a state view that a step can change, by its name in for_each_state_view: the
+// lean failure snapshot (snapshot.cpp) keeps only those, and run comparisons (tests) read only
+// the used part of a list.
+enum class StateRows {
+  all,              // any row
+  list_prefix,      // a list: the entries [0, count) (converted, bonds.used, particle_list, active)
+  active_elements,  // the active elements' rows (their quadrature points' for per-point views):
+                    // an element leaves the list by converting and never changes again
+  converted_cells,  // the converted cells' rows; a cell's are its initial ones until it converts
+  used_bonds,       // the used slots' rows; a slot's are its initial ones until it is activated
+  particles,        // the particles' rows; a node's are 0 until it becomes a disc
+};
+
+inline StateRows state_rows(std::string_view name) {
+  auto is_one_of = [name](std::initializer_list<std::string_view> names) {
+    for (std::string_view n : names)
+      if (n == name) return true;
+    return false;
+  };
+  if (is_one_of({"converted", "bonds.used", "nodes.particle_list", "elements.active"}))
+    return StateRows::list_prefix;
+  if (name.substr(0, 6) == "bonds.") return StateRows::used_bonds;
+  // Not elements.cell_cracked: a broken bond marks the cells on both its sides, converted or not.
+  if (is_one_of({"elements.cell_strain_offset", "elements.cell_stress", "elements.cell_state",
+                 "elements.cell_volumetric_strain"}))
+    return StateRows::converted_cells;
+  if (is_one_of({"nodes.particle", "nodes.rotation", "nodes.spin", "nodes.moment"}))
+    return StateRows::particles;
+  if (is_one_of({"elements.stress", "elements.epeq", "elements.qp_volume",
+                 "elements.bulk_viscosity", "elements.law_state", "elements.hourglass_disp",
+                 "elements.hourglass_force", "elements.recoverable_work", "elements.alive"}))
+    return StateRows::active_elements;
+  return StateRows::all;  // positions, velocities, forces, supports, radii, contact forces,
+                          // cracked flags
 }
 
 }  // namespace fracta

@@ -1,0 +1,142 @@
+#include "host/snapshot.hpp"
+
+#include <string_view>
+#include <type_traits>
+#include <utility>
+
+#include "kernels/rows.hpp"
+
+namespace fracta {
+
+namespace {
+
+// The length of the list named `name` (StateRows::list_prefix).
+int list_length(std::string_view name, const ListCounts& lengths) {
+  if (name == "converted") return lengths.converted;
+  if (name == "bonds.used") return lengths.used_bonds;
+  if (name == "nodes.particle_list") return lengths.particles;
+  return lengths.active_elements;  // elements.active
+}
+
+struct Rows {
+  RowMap map;
+  int count = 0;
+};
+
+// The rows of `view` that a step can change, under the lists of `lists` at the lengths
+// `lengths`. A view whose rows do not match its entity (no list kept, an unexpected extent)
+// keeps every row: never too few.
+template <class V>
+Rows rows_to_keep(std::string_view name, const V& view, const StateViews& lists,
+                  const ListCounts& lengths, const int element_count) {
+  const int extent = static_cast<int>(view.extent(0));
+  if (extent == 0) return {};
+  switch (state_rows(name)) {
+    case StateRows::list_prefix:
+      return {{}, list_length(name, lengths)};
+    case StateRows::active_elements:
+      if (element_count > 0 && extent % element_count == 0) {
+        const int per = extent / element_count;  // 1, or the quadrature points
+        return {{lists.elements.active, per}, lengths.active_elements * per};
+      }
+      break;
+    case StateRows::converted_cells:
+      if (extent == element_count && lists.converted.extent(0) > 0)
+        return {{lists.converted, 1}, lengths.converted};
+      break;
+    case StateRows::used_bonds:
+      if (lists.bonds.used.extent(0) > 0) return {{lists.bonds.used, 1}, lengths.used_bonds};
+      break;
+    case StateRows::particles:
+      if (lists.nodes.particle_list.extent(0) > 0)
+        return {{lists.nodes.particle_list, 1}, lengths.particles};
+      break;
+    case StateRows::all:
+      break;
+  }
+  return {{}, extent};
+}
+
+template <class V>
+auto& buffer_of(const V&, View<double**>& reals, View<int**>& ints) {
+  using Value = typename V::non_const_value_type;
+  static_assert(std::is_same_v<Value, double> || std::is_same_v<Value, int>,
+                "a state view of another value type needs a buffer of its own");
+  if constexpr (std::is_same_v<Value, double>)
+    return reals;
+  else
+    return ints;
+}
+
+}  // namespace
+
+void StateSnapshot::save(const Model& m, StateViews live) {
+  lists_ = ListCounts::of(m);
+  size_t index = 0;
+  for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
+    if (saved_.size() <= index) saved_.emplace_back();
+    Saved& s = saved_[index++];
+    const Rows rows = rows_to_keep(name, view, live, lists_, m.elements.count);
+    auto& buffer = buffer_of(view, s.reals, s.ints);
+    const int columns = columns_of(view);
+    if (static_cast<int>(buffer.extent(0)) < rows.count ||
+        static_cast<int>(buffer.extent(1)) != columns) {
+      // Grown by half again beyond the need, so that a list growing by a few entries between
+      // saves does not reallocate at every save.
+      const int old_rows = static_cast<int>(buffer.extent(0));
+      const int capacity =
+          old_rows == 0 ? rows.count : std::max(rows.count, old_rows + old_rows / 2);
+      using Buffer = std::decay_t<decltype(buffer)>;
+      buffer = Buffer();  // free the old one first
+      buffer =
+          Buffer(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string(name) + "_snapshot"),
+                 capacity, columns);
+    }
+    gather_rows(view, rows.map, rows.count, buffer);
+    s.rows = rows.count;
+  });
+  taken_ = true;
+}
+
+void StateSnapshot::restore(Model& m, StateViews live) const {
+  const ListCounts now = ListCounts::of(m);
+  const int elements = m.elements.count;
+  // 1. The rows that joined a list since the save go back to their values before joining: 0,
+  //    and a bond slot's rest length to its length0 (build_lattice). Every row listed now is
+  //    reset; the saved ones are written again below.
+  for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
+    const StateRows kind = state_rows(name);
+    if (kind != StateRows::converted_cells && kind != StateRows::used_bonds &&
+        kind != StateRows::particles)
+      return;
+    const Rows rows = rows_to_keep(name, view, live, now, elements);
+    if (rows.map.list.extent(0) == 0) return;  // every row is saved
+    using V = std::decay_t<decltype(view)>;
+    V initial;
+    if constexpr (std::is_same_v<V, decltype(m.bonds.length0)>)
+      if (std::string_view(name) == "bonds.rest_length") initial = m.bonds.length0;
+    reset_rows(view, rows.map, rows.count, initial);
+  });
+  // 2. The lists, then 3. every other view's rows through them.
+  for (const bool lists : {true, false}) {
+    size_t index = 0;
+    for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
+      const Saved& s = saved_[index++];
+      if ((state_rows(name) == StateRows::list_prefix) != lists) return;
+      View<double**> reals = s.reals;
+      View<int**> ints = s.ints;
+      const Rows rows = rows_to_keep(name, view, live, lists_, elements);
+      scatter_rows(buffer_of(view, reals, ints), rows.map, s.rows, view);
+    });
+  }
+  lists_.apply_to(m);
+}
+
+double StateSnapshot::bytes() const {
+  double total = 0;
+  for (const Saved& s : saved_)
+    total += s.reals.span() * sizeof(double) + s.ints.span() * sizeof(int);
+  return total;
+}
+
+}  // namespace fracta

@@ -1,0 +1,78 @@
+// Copies of chosen rows of a state view into a compact buffer and back, for the lean failure
+// snapshot (src/host/snapshot.cpp): it keeps only the rows a step can change (the active
+// elements, the used bond slots, the particles), not every row of the mesh.
+#pragma once
+#include "kernels/compat.hpp"
+
+namespace fracta {
+
+// Row r of a buffer holds row list(r / per) * per + r % per of the view (per: the view's rows
+// per list entry, e.g. an element's quadrature points), or row r itself without a list.
+struct RowMap {
+  View<int*> list;  // empty: the identity
+  int per = 1;
+  KOKKOS_INLINE_FUNCTION int operator()(const int r) const {
+    return list.extent(0) == 0 ? r : list(r / per) * per + r % per;
+  }
+};
+
+// The buffer of a view's rows: rows x its columns (1 for a rank-1 view).
+template <class V>
+using RowBuffer = View<typename V::non_const_value_type**>;
+
+template <class V>
+inline int columns_of(const V& v) {
+  if constexpr (V::rank == 1)
+    return 1;
+  else
+    return static_cast<int>(v.extent(1));
+}
+
+// buffer(r, c) = view(map(r), c) for r < rows.
+template <class V>
+inline void gather_rows(const V& view, const RowMap& map, const int rows,
+                        const RowBuffer<V>& buffer) {
+  const int columns = columns_of(view);
+  Kokkos::parallel_for(
+      "fracta::gather_rows", Kokkos::RangePolicy<ExecSpace>(0, rows), KOKKOS_LAMBDA(const int r) {
+        const int row = map(r);
+        if constexpr (V::rank == 1)
+          buffer(r, 0) = view(row);
+        else
+          for (int c = 0; c < columns; ++c) buffer(r, c) = view(row, c);
+      });
+}
+
+// view(map(r), c) = buffer(r, c) for r < rows.
+template <class V>
+inline void scatter_rows(const RowBuffer<V>& buffer, const RowMap& map, const int rows,
+                         const V& view) {
+  const int columns = columns_of(view);
+  Kokkos::parallel_for(
+      "fracta::scatter_rows", Kokkos::RangePolicy<ExecSpace>(0, rows), KOKKOS_LAMBDA(const int r) {
+        const int row = map(r);
+        if constexpr (V::rank == 1)
+          view(row) = buffer(r, 0);
+        else
+          for (int c = 0; c < columns; ++c) view(row, c) = buffer(r, c);
+      });
+}
+
+// view(map(r), c) = initial(map(r), c) for r < rows, or 0 where `initial` is empty: the value a
+// row had before it joined its list.
+template <class V>
+inline void reset_rows(const V& view, const RowMap& map, const int rows, const V& initial) {
+  const int columns = columns_of(view);
+  const bool zero = initial.extent(0) == 0;
+  using Value = typename V::non_const_value_type;
+  Kokkos::parallel_for(
+      "fracta::reset_rows", Kokkos::RangePolicy<ExecSpace>(0, rows), KOKKOS_LAMBDA(const int r) {
+        const int row = map(r);
+        if constexpr (V::rank == 1)
+          view(row) = zero ? Value(0) : initial(row);
+        else
+          for (int c = 0; c < columns; ++c) view(row, c) = zero ? Value(0) : initial(row, c);
+      });
+}
+
+}  // namespace fracta
