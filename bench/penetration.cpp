@@ -16,11 +16,11 @@
 //
 // Usage: penetration --level L [--steps N] [--warmup W] [--base-cell H] [--gap CELLS]
 //                    [--case FILE] [--json FILE] [--kernels N]
-// Prints one human-readable line, the device memory held in views after set-up by entity (nodes,
-// elements, lattice cells, bonds, contact, the failure snapshot; through the Kokkos tools'
-// allocation callbacks) and writes one JSON object (to --json or stdout). --kernels N
-// also prints the N kernels that took the most time in the window and the launches (by kind) and
-// deep copies per step, with and without conversion (stderr): a profiling aid.
+// Prints one human-readable line, the memory held in views after the window by entity (nodes,
+// elements, lattice cells, bonds, contact, the failure snapshot; allocated and resident, through
+// the Kokkos tools' allocation callbacks) and writes one JSON object (to --json or stdout).
+// --kernels N also prints the N kernels that took the most time in the window and the launches (by
+// kind) and deep copies per step, with and without conversion (stderr): a profiling aid.
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -170,13 +170,6 @@ int main(int argc, char** argv) {
   Simulation sim(c);
   const double setup_seconds = seconds_since(t_setup);
   const double rss_after_setup = peak_rss_mb();
-  // The views held once the model is built (the t = 0 snapshot included), by entity (MB).
-  std::map<std::string, double> view_mb;
-  for (const auto& [label, bytes] : bench::ViewMemory::live())
-    view_mb[view_group(label)] += bytes / 1e6;
-  double view_total_mb = 0;
-  for (const auto& [group, mb] : view_mb) view_total_mb += mb;
-
   char tmpl[] = "/tmp/fracta_bench_XXXXXX";
   const int fd = mkstemp(tmpl);
   if (fd >= 0) close(fd);
@@ -239,6 +232,16 @@ int main(int argc, char** argv) {
     }
     sim.finish_kick();
     const double run_seconds = seconds_since(t_run);
+    // The views held after the window (the last snapshot included), by entity (MB): allocated,
+    // and resident in RAM (what the run touched).
+    std::map<std::string, double> view_mb, view_resident_mb;
+    for (const auto& [label, bytes] : bench::ViewMemory::allocated())
+      view_mb[view_group(label)] += bytes / 1e6;
+    for (const auto& [label, bytes] : bench::ViewMemory::resident())
+      view_resident_mb[view_group(label)] += bytes / 1e6;
+    double view_total_mb = 0, view_resident_total_mb = 0;
+    for (const auto& [group, mb] : view_mb) view_total_mb += mb;
+    for (const auto& [group, mb] : view_resident_mb) view_resident_total_mb += mb;
     const auto totals = bench::RegionTimer::totals();
     const HistoryRecord h1 = sim.history();
     out.finish(sim.steps(), RunTimes{run_seconds, output_seconds},
@@ -278,7 +281,10 @@ int main(int argc, char** argv) {
        << ", \"peak_rss_mb\": " << num(peak_rss_mb()) << ", \"rss_now_mb\": " << num(rss_now_mb())
        << ", \"view_peak_mb\": " << num(bench::ViewMemory::peak() / 1e6) << ", \"view_mb\": {";
     for (const auto& [group, mb] : view_mb) js << "\"" << group << "\": " << num(mb) << ", ";
-    js << "\"total\": " << num(view_total_mb) << "}, \"phase_s\": {";
+    js << "\"total\": " << num(view_total_mb) << "}, \"view_resident_mb\": {";
+    for (const auto& [group, mb] : view_resident_mb)
+      js << "\"" << group << "\": " << num(mb) << ", ";
+    js << "\"total\": " << num(view_resident_total_mb) << "}, \"phase_s\": {";
     for (const char* p : phases)
       js << "\"" << (p + 8) << "\": " << num(bench::RegionTimer::get(p).seconds) << ", ";
     js << "\"output\": " << num(output_seconds)
@@ -318,11 +324,13 @@ int main(int argc, char** argv) {
                  o.level, h * 1e3, ExecSpace().concurrency(), sim.model().nodes.count, elements,
                  particles, bonds, contacts, setup_seconds, steps, run_seconds, steps_per_s,
                  peak_rss_mb());
-    std::fprintf(stderr, "views after set-up (MB):");
-    for (const auto& [group, mb] : view_mb) std::fprintf(stderr, " %s %.0f,", group.c_str(), mb);
-    std::fprintf(stderr, " total %.0f (%.0f B per node); largest view total %.0f MB\n",
-                 view_total_mb, 1e6 * view_total_mb / sim.model().nodes.count,
-                 bench::ViewMemory::peak() / 1e6);
+    const double per_node = 1e6 / sim.model().nodes.count;
+    std::fprintf(stderr, "views after the window, MB allocated (resident):");
+    for (const auto& [group, mb] : view_mb)
+      std::fprintf(stderr, " %s %.0f (%.0f),", group.c_str(), mb, view_resident_mb[group]);
+    std::fprintf(stderr, " total %.0f (%.0f); per node %.0f (%.0f) B\n", view_total_mb,
+                 view_resident_total_mb, per_node * view_total_mb,
+                 per_node * view_resident_total_mb);
     if (o.json_path.empty()) {
       std::printf("%s\n", js.str().c_str());
     } else {

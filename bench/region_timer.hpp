@@ -8,8 +8,15 @@
 // The callbacks fence, so on an asynchronous backend (CUDA) a region's time includes its
 // kernels; on OpenMP the fence is a no-op.
 #pragma once
+#if defined(__linux__)
+#include <sys/mman.h>
+#include <unistd.h>
+#endif
+
 #include <Kokkos_Core.hpp>
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <map>
 #include <string>
 #include <utility>
@@ -150,9 +157,11 @@ class KernelTimer {
   }
 };
 
-// Device memory held in Kokkos views, by label, through the tools' allocation callbacks: what
-// the state of a run costs, entity by entity. `live` is the bytes held now per label, `peak` the
-// largest total held at any time since install().
+// Memory held in Kokkos views, by label, through the tools' allocation callbacks: what the
+// state of a run costs, entity by entity. allocated(): the bytes of each label's views now;
+// resident(): the part of them in RAM (mincore(2), host memory on Linux; else the allocation),
+// which is less where a view's pages were never touched (sparse_zero_view, model.hpp). peak():
+// the largest total allocated at any time since install().
 class ViewMemory {
  public:
   static void install() {
@@ -160,30 +169,59 @@ class ViewMemory {
     T::set_allocate_data_callback(&allocate);
     T::set_deallocate_data_callback(&deallocate);
   }
-  static const std::map<std::string, double>& live() { return state().live; }
-  static double total() { return state().total; }
+  static std::map<std::string, double> allocated() {
+    std::map<std::string, double> bytes;
+    for (const auto& [ptr, block] : state().blocks) bytes[block.label] += block.size;
+    return bytes;
+  }
+  static std::map<std::string, double> resident() {
+    std::map<std::string, double> bytes;
+    for (const auto& [ptr, block] : state().blocks)
+      bytes[block.label] += block.host ? resident_bytes(ptr, block.size) : block.size;
+    return bytes;
+  }
   static double peak() { return state().peak; }
 
  private:
+  struct Block {
+    std::string label;
+    double size = 0;
+    bool host = false;
+  };
   struct State {
-    std::map<std::string, double> live;
+    std::map<const void*, Block> blocks;
     double total = 0, peak = 0;
   };
   static State& state() {
     static State s;
     return s;
   }
-  static void allocate(Kokkos::Tools::SpaceHandle, const char* label, const void*,
+  static double resident_bytes(const void* ptr, const double size) {
+#if defined(__linux__)
+    const uintptr_t page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
+    const uintptr_t begin = reinterpret_cast<uintptr_t>(ptr) / page * page;
+    const uintptr_t end = reinterpret_cast<uintptr_t>(ptr) + static_cast<uintptr_t>(size);
+    std::vector<unsigned char> in_core((end - begin + page - 1) / page);
+    if (mincore(reinterpret_cast<void*>(begin), end - begin, in_core.data()) != 0) return size;
+    double pages = 0;
+    for (const unsigned char c : in_core) pages += c & 1;
+    return std::min(size, pages * static_cast<double>(page));
+#else
+    (void)ptr;
+    return size;
+#endif
+  }
+  static void allocate(const Kokkos::Tools::SpaceHandle space, const char* label, const void* ptr,
                        const uint64_t size) {
     State& s = state();
-    s.live[label] += static_cast<double>(size);
+    s.blocks[ptr] = {label, static_cast<double>(size), std::string(space.name) == "Host"};
     s.total += static_cast<double>(size);
     s.peak = std::max(s.peak, s.total);
   }
-  static void deallocate(Kokkos::Tools::SpaceHandle, const char* label, const void*,
+  static void deallocate(Kokkos::Tools::SpaceHandle, const char*, const void* ptr,
                          const uint64_t size) {
     State& s = state();
-    s.live[label] -= static_cast<double>(size);
+    s.blocks.erase(ptr);
     s.total -= static_cast<double>(size);
   }
 };

@@ -4,12 +4,18 @@
 #include <cerrno>
 #include <climits>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #if defined(__GLIBC__)
 #include <malloc.h>
+#endif
+#if defined(__linux__)
+#include <sys/mman.h>
+#include <unistd.h>
 #endif
 
 #include "host/mesh.hpp"
@@ -147,6 +153,31 @@ double available_memory_bytes() {
     if (std::sscanf(line.c_str(), "MemAvailable: %lf kB", &kib) == 1) return kib * 1024.0;
   }
   return -1;
+}
+
+void zero_lazily(void* data, size_t bytes) {
+  char* const begin = static_cast<char*>(data);
+  char* const end = begin + bytes;
+#if defined(__linux__)
+  const long page_size = sysconf(_SC_PAGESIZE);
+  if (page_size > 0 && bytes > 0) {
+    const uintptr_t page = static_cast<uintptr_t>(page_size);
+    char* const first = begin + (page - reinterpret_cast<uintptr_t>(begin) % page) % page;
+    char* const last = end - reinterpret_cast<uintptr_t>(end) % page;
+    // The whole pages: no huge pages (one written row would cost 2 MiB), and handed back, so that
+    // each is a zero page until first written (private anonymous memory, as every heap and
+    // malloc block is: madvise(2), MADV_DONTNEED).
+    if (first < last) {
+      madvise(first, static_cast<size_t>(last - first), MADV_NOHUGEPAGE);  // advice only
+      if (madvise(first, static_cast<size_t>(last - first), MADV_DONTNEED) == 0) {
+        std::memset(begin, 0, static_cast<size_t>(first - begin));
+        std::memset(last, 0, static_cast<size_t>(end - last));
+        return;
+      }
+    }
+  }
+#endif
+  std::memset(begin, 0, bytes);
 }
 
 void keep_large_blocks_mapped() {

@@ -2,6 +2,7 @@
 // would not fit (docs/output.md: bad input, exit code 2). Host-only, no Kokkos: the fuzz harness
 // links it without the device code.
 #pragma once
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,13 @@ void check_memory(const Case& c);
 // build_model calls it before it allocates, so every program that builds a model has it (fracta,
 // the benchmarks, the tests); a no-op off glibc.
 void keep_large_blocks_mapped();
+
+// Sets bytes at data to zero, lazily where it can: on Linux the whole pages are handed back to
+// the kernel (madvise MADV_DONTNEED), so each reads as zero and costs memory only once it is
+// written; the partial pages at the ends are cleared at once. For state that the run writes in
+// a small part only (the bond slots of cells that never convert): see sparse_zero_view in
+// model.hpp. Elsewhere, and if the kernel refuses, a plain memset.
+void zero_lazily(void* data, size_t bytes);
 
 // "1.5 GB", "320 MB": for messages.
 std::string format_bytes(double bytes);

@@ -440,21 +440,21 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
     length0[b] = std::hypot(q[0] - p[0], q[1] - p[1]);
   }
   bonds.length0 = to_device_1d<double>("bond_length0", length0);
-  bonds.material = View<int*>("fracta::bond_material", nb);
-  bonds.state = View<int*>("fracta::bond_state", nb);
-  bonds.kn = View<double*>("fracta::bond_kn", nb);
-  bonds.ks = View<double*>("fracta::bond_ks", nb);
-  bonds.area = View<double*>("fracta::bond_area", nb);
-  bonds.fn = View<double*>("fracta::bond_fn", nb);
-  bonds.fs = View<double*>("fracta::bond_fs", nb);
-  bonds.plastic_n = View<double*>("fracta::bond_plastic_n", nb);
+  bonds.material = sparse_zero_view<View<int*>>("fracta::bond_material", nb);
+  bonds.state = sparse_zero_view<View<int*>>("fracta::bond_state", nb);
+  bonds.kn = sparse_zero_view<View<double*>>("fracta::bond_kn", nb);
+  bonds.ks = sparse_zero_view<View<double*>>("fracta::bond_ks", nb);
+  bonds.area = sparse_zero_view<View<double*>>("fracta::bond_area", nb);
+  bonds.fn = sparse_zero_view<View<double*>>("fracta::bond_fn", nb);
+  bonds.fs = sparse_zero_view<View<double*>>("fracta::bond_fs", nb);
+  bonds.plastic_n = sparse_zero_view<View<double*>>("fracta::bond_plastic_n", nb);
   bonds.rest_length = to_device_1d<double>("bond_rest_length", length0);  // plastic_n = 0
-  bonds.plastic_s = View<double*>("fracta::bond_plastic_s", nb);
-  bonds.hardening = View<double*>("fracta::bond_hardening", nb);
-  bonds.plastic_work = View<double*>("fracta::bond_plastic_work", nb);
-  bonds.damage = View<double*>("fracta::bond_damage", nb);
-  bonds.onset_separation = View<double*>("fracta::bond_onset_separation", nb);
-  bonds.final_separation = View<double*>("fracta::bond_final_separation", nb);
+  bonds.plastic_s = sparse_zero_view<View<double*>>("fracta::bond_plastic_s", nb);
+  bonds.hardening = sparse_zero_view<View<double*>>("fracta::bond_hardening", nb);
+  bonds.plastic_work = sparse_zero_view<View<double*>>("fracta::bond_plastic_work", nb);
+  bonds.damage = sparse_zero_view<View<double*>>("fracta::bond_damage", nb);
+  bonds.onset_separation = sparse_zero_view<View<double*>>("fracta::bond_onset_separation", nb);
+  bonds.final_separation = sparse_zero_view<View<double*>>("fracta::bond_final_separation", nb);
   model.element_bonds = to_device_rows("element_bonds", element_slots);
   std::vector<std::array<int, 2>> bond_cells(nb, std::array<int, 2>{-1, -1});
   for (int e = 0; e < ne; ++e)
@@ -489,10 +489,11 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
           (continues(b) ? kRunContinues : 0) | (slot_kind[b] == kBondDiagonal ? kRunNormalOnly : 0);
     bonds.run_next = to_device_1d<unsigned char>("bond_run_next", run_next);
   }
-  model.elements.cell_stress = View<double* [3]>("fracta::cell_stress", ne);
-  model.elements.cell_state = View<int*>("fracta::cell_state", ne);
-  model.elements.cell_cracked = View<int*>("fracta::cell_cracked", ne);
-  model.elements.cell_strain_offset = View<double* [3]>("fracta::cell_strain_offset", ne);
+  model.elements.cell_stress = sparse_zero_view<View<double* [3]>>("fracta::cell_stress", ne);
+  model.elements.cell_state = sparse_zero_view<View<int*>>("fracta::cell_state", ne);
+  model.elements.cell_cracked = sparse_zero_view<View<int*>>("fracta::cell_cracked", ne);
+  model.elements.cell_strain_offset =
+      sparse_zero_view<View<double* [3]>>("fracta::cell_strain_offset", ne);
   // Capacity for every cell: adaptive conversion appends to the list.
   std::vector<int> converted_all(converted);
   converted_all.resize(ne, -1);
@@ -580,16 +581,16 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
     cell_term = cell_term || (largest_cell[mi] > 0.0 && stiffness[mi].kv > 0.0);
   if (cell_term) {
     model.elements.cell_volumetric_strain =
-        View<double*>("fracta::cell_volumetric_strain", model.elements.count);
+        sparse_zero_view<View<double*>>("fracta::cell_volumetric_strain", model.elements.count);
     build_cell_scatter_plan(model.elements);
   }
   draw_heterogeneity(model);
 
   // Particle views of the nodes: radius half the cell, inertia m r^2 / 2, lambda k1.
   Nodes& nodes = model.nodes;
-  nodes.particle = View<int*>("fracta::node_particle", nn);
-  nodes.rotation = View<double*>("fracta::node_rotation", nn);
-  nodes.spin = View<double*>("fracta::node_spin", nn);
+  nodes.particle = sparse_zero_view<View<int*>>("fracta::node_particle", nn);
+  nodes.rotation = sparse_zero_view<View<double*>>("fracta::node_rotation", nn);
+  nodes.spin = sparse_zero_view<View<double*>>("fracta::node_spin", nn);
   nodes.moment = View<double*>("fracta::node_moment", nn);
 
   {
@@ -684,11 +685,11 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
                          model.lattice_stiffness, model.elements, nodes, bonds);
 
   // The used bond slots and the particles (state.hpp), kept up to date by the conversion.
-  bonds.used = View<int*>("fracta::bond_used", nb);
+  bonds.used = sparse_zero_view<View<int*>>("fracta::bond_used", nb);
   bonds.used_count = build_used_bonds(bonds);
   update_scatter_plan(bonds);
-  nodes.particle_list = View<int*>("fracta::node_particle_list", nn);
-  nodes.bound_stale = View<int*>("fracta::node_bound_stale", nn);
+  nodes.particle_list = sparse_zero_view<View<int*>>("fracta::node_particle_list", nn);
+  nodes.bound_stale = sparse_zero_view<View<int*>>("fracta::node_bound_stale", nn);
   nodes.particle_count = build_particle_list(nodes);
   model.lists = ListWorkspace(std::max(nb, nn));
   model.contacts->track_surface(surface_nodes, nodes);

@@ -165,8 +165,10 @@ Simulation::Simulation(const Case& c) : model_(build_model(c)) {
   // The contact's forces of the last evaluation are part of the state (snapshot, checkpoint)
   // from the start, also for a lone body whose contact begins at its first conversion.
   if (model_.contacts) {
-    contact_force_ = View<double* [3]>("fracta::contact_force", model_.nodes.count);
-    contact_force_prev_ = View<double* [3]>("fracta::contact_force_prev", model_.nodes.count);
+    contact_force_ =
+        sparse_zero_view<View<double* [3]>>("fracta::contact_force", model_.nodes.count);
+    contact_force_prev_ =
+        sparse_zero_view<View<double* [3]>>("fracta::contact_force_prev", model_.nodes.count);
   }
   // The bond network's bound: bonds only weaken or break, so it stays valid until a conversion
   // adds stiffness; it allows 6 contacts per disc.

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -55,6 +56,44 @@ TEST(Memory, OneCellBodyRunsForEveryMethod) {
 
 // The estimate counts the bounding-box grid: exactly the mesh's cells and nodes for a rectangle,
 // an upper bound for a circle (the mesh keeps about pi/4 of the box, staircased).
+// Resident memory of the process now (B), from /proc/self/statm.
+double resident_bytes() {
+  std::ifstream statm("/proc/self/statm");
+  double pages = 0, resident = 0;
+  statm >> pages >> resident;
+  return resident * static_cast<double>(sysconf(_SC_PAGESIZE));
+}
+
+// zero_lazily clears exactly the bytes asked, whatever they held, and on Linux the pages it
+// hands back cost memory again only once used: 256 MiB filled, cleared lazily, then written at
+// one byte in every 16th page. (Reading a page may commit it too: on some kernels, this CI's
+// among them, an untouched anonymous page has no shared zero page behind it.)
+TEST(Memory, ZeroLazilyCostsOnlyTheWrittenPages) {
+  const size_t bytes = size_t(256) << 20;
+  const size_t page = static_cast<size_t>(sysconf(_SC_PAGESIZE));
+  char* block = static_cast<char*>(std::malloc(bytes));
+  ASSERT_NE(block, nullptr);
+  std::memset(block, 0xab, bytes);
+  const double filled = resident_bytes();
+  // Unaligned ends: the partial pages are cleared in place, the bytes around them stay.
+  zero_lazily(block + 100, bytes - 300);
+  const double cleared = resident_bytes();
+  for (size_t k = 16 * page; k < bytes - 16 * page; k += 16 * page) block[k] = 1;
+  const double written = resident_bytes();
+  EXPECT_EQ(static_cast<unsigned char>(block[99]), 0xabu);
+  EXPECT_EQ(static_cast<unsigned char>(block[bytes - 200]), 0xabu);
+  size_t nonzero = 0;
+  for (size_t k = 100; k < bytes - 200; ++k) nonzero += block[k] != 0 && k % (16 * page) != 0;
+  EXPECT_EQ(nonzero, 0u);
+  std::free(block);
+  RecordProperty("released_mib", std::to_string((filled - cleared) / (1 << 20)));
+  RecordProperty("written_mib", std::to_string((written - cleared) / (1 << 20)));
+#if defined(__linux__)
+  EXPECT_GT(filled - cleared, 0.95 * bytes);                   // handed back
+  EXPECT_NEAR(written - cleared, bytes / 16.0, 0.02 * bytes);  // one page in 16 used
+#endif
+}
+
 TEST(Memory, EstimateCountsTheBoundingBoxGrid) {
   Case c = test::rectangle_case(32, 64, 0.9375e-3);
   MemoryEstimate e = estimate_memory(c);
