@@ -368,24 +368,28 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   std::vector<std::array<int, 2>> slot_nodes;
   std::vector<int> slot_kind;
   std::vector<std::array<int, 6>> element_slots(ne);
-  std::map<std::pair<int, int>, int> edge_slot;
-  for (int e = 0; e < ne; ++e) {
-    element_slots[e].fill(-1);
-    const Body& body = c.bodies[m.element_body[e]];
-    bool lattice = convertible(body.method);
-    for (const Region& r : body.regions) lattice = lattice || convertible(r.method);
-    if (!lattice) continue;
-    const auto& en = m.element_nodes[e];
-    for (int a = 0; a < 4; ++a) {
-      const int p = en[a], q = en[(a + 1) % 4];
-      const auto key = std::make_pair(std::min(p, q), std::max(p, q));
-      auto it = edge_slot.find(key);
-      if (it == edge_slot.end()) {
-        it = edge_slot.emplace(key, static_cast<int>(slot_nodes.size())).first;
-        slot_nodes.push_back({key.first, key.second});
-        slot_kind.push_back(kBondEdge);
+  {
+    // Freed before the views are made: 60 B or so per edge, the largest host array of the
+    // set-up (150 MB of a million-cell mesh).
+    std::map<std::pair<int, int>, int> edge_slot;
+    for (int e = 0; e < ne; ++e) {
+      element_slots[e].fill(-1);
+      const Body& body = c.bodies[m.element_body[e]];
+      bool lattice = convertible(body.method);
+      for (const Region& r : body.regions) lattice = lattice || convertible(r.method);
+      if (!lattice) continue;
+      const auto& en = m.element_nodes[e];
+      for (int a = 0; a < 4; ++a) {
+        const int p = en[a], q = en[(a + 1) % 4];
+        const auto key = std::make_pair(std::min(p, q), std::max(p, q));
+        auto it = edge_slot.find(key);
+        if (it == edge_slot.end()) {
+          it = edge_slot.emplace(key, static_cast<int>(slot_nodes.size())).first;
+          slot_nodes.push_back({key.first, key.second});
+          slot_kind.push_back(kBondEdge);
+        }
+        element_slots[e][a] = it->second;
       }
-      element_slots[e][a] = it->second;
     }
   }
   for (int e = 0; e < ne; ++e) {
@@ -448,7 +452,9 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   bonds.fn = sparse_zero_view<View<double*>>("fracta::bond_fn", nb);
   bonds.fs = sparse_zero_view<View<double*>>("fracta::bond_fs", nb);
   bonds.plastic_n = sparse_zero_view<View<double*>>("fracta::bond_plastic_n", nb);
-  bonds.rest_length = to_device_1d<double>("bond_rest_length", length0);  // plastic_n = 0
+  // Set to length0 when a slot is activated (activate_element_bonds).
+  bonds.rest_length = sparse_zero_view<View<double*>>("fracta::bond_rest_length", nb);
+  std::vector<double>().swap(length0);  // host arrays go as soon as their views exist
   bonds.plastic_s = sparse_zero_view<View<double*>>("fracta::bond_plastic_s", nb);
   bonds.hardening = sparse_zero_view<View<double*>>("fracta::bond_hardening", nb);
   bonds.plastic_work = sparse_zero_view<View<double*>>("fracta::bond_plastic_work", nb);
@@ -463,6 +469,7 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
       if (b >= 0) bond_cells[b][bond_cells[b][0] < 0 ? 0 : 1] = e;
     }
   bonds.cells = to_device_rows("bond_cells", bond_cells);
+  std::vector<std::array<int, 6>>().swap(element_slots);
   // Where the next slot continues a run, and which slots are diagonals (Bonds::run_next;
   // BondForces::batch relies on each condition: the ends and cells it does not read are one on
   // per lane, one law serves all, and a run is all edges or all diagonals).
@@ -489,6 +496,8 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
           (continues(b) ? kRunContinues : 0) | (slot_kind[b] == kBondDiagonal ? kRunNormalOnly : 0);
     bonds.run_next = to_device_1d<unsigned char>("bond_run_next", run_next);
   }
+  std::vector<std::array<int, 2>>().swap(bond_cells);
+  std::vector<int>().swap(slot_kind);
   model.elements.cell_stress = sparse_zero_view<View<double* [3]>>("fracta::cell_stress", ne);
   model.elements.cell_state = sparse_zero_view<View<int*>>("fracta::cell_state", ne);
   model.elements.cell_cracked = sparse_zero_view<View<int*>>("fracta::cell_cracked", ne);
@@ -639,25 +648,28 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
     nodes.contact_stiffness = to_device_1d<double>("node_contact_stiffness", kc);
   }
 
-  // Topology (node -> bonds, node -> elements) for contact exclusion.
-  auto csr = [nn](const std::vector<std::vector<int>>& lists, const std::string& label,
-                  View<int*>& offset, View<int*>& ids) {
-    std::vector<int> off(nn + 1, 0), flat;
-    for (int n = 0; n < nn; ++n) {
-      off[n + 1] = off[n] + static_cast<int>(lists[n].size());
-      flat.insert(flat.end(), lists[n].begin(), lists[n].end());
-    }
+  // Topology (node -> bonds, node -> elements) for contact exclusion: CSR arrays built by
+  // counting, each node's entries in increasing order. (A list per node held 170 MB of small
+  // vectors for a million-cell mesh at the set-up's peak.)
+  Topology& topo = model.topology;
+  const auto csr = [nn](const int items, const int per_item, const auto& node_of,
+                        const std::string& label, View<int*>& offset, View<int*>& ids) {
+    std::vector<int> off(nn + 1, 0);
+    for (int i = 0; i < items; ++i)
+      for (int k = 0; k < per_item; ++k) ++off[node_of(i, k) + 1];
+    for (int n = 0; n < nn; ++n) off[n + 1] += off[n];
+    std::vector<int> flat(off[nn]), cursor(off.begin(), off.end() - 1);
+    for (int i = 0; i < items; ++i)
+      for (int k = 0; k < per_item; ++k) flat[cursor[node_of(i, k)]++] = i;
     offset = to_device_1d<int>(label + "_offset", off);
     ids = to_device_1d<int>(label, flat);
   };
-  std::vector<std::vector<int>> node_bonds(nn), node_elements(nn);
-  for (int b = 0; b < nb; ++b)
-    for (int s = 0; s < 2; ++s) node_bonds[slot_nodes[b][s]].push_back(b);
-  for (int e = 0; e < ne; ++e)
-    for (int a = 0; a < 4; ++a) node_elements[m.element_nodes[e][a]].push_back(e);
-  Topology& topo = model.topology;
-  csr(node_bonds, "node_bond", topo.node_bond_offset, topo.node_bond);
-  csr(node_elements, "node_element", topo.node_element_offset, topo.node_element);
+  csr(
+      nb, 2, [&](int b, int s) { return slot_nodes[b][s]; }, "node_bond", topo.node_bond_offset,
+      topo.node_bond);
+  csr(
+      ne, 4, [&](int e, int a) { return m.element_nodes[e][a]; }, "node_element",
+      topo.node_element_offset, topo.node_element);
   topo.element_alive = model.elements.alive;
   topo.bond_nodes = bonds.nodes;
   topo.bond_state = bonds.state;

@@ -101,9 +101,9 @@ void StateSnapshot::save(const Model& m, StateViews live) {
 void StateSnapshot::restore(Model& m, StateViews live) const {
   const ListCounts now = ListCounts::of(m);
   const int elements = m.elements.count;
-  // 1. The rows that joined a list since the save go back to their values before joining: 0,
-  //    and a bond slot's rest length to its length0 (build_lattice). Every row listed now is
-  //    reset; the saved ones are written again below.
+  // 1. The rows that joined a list since the save go back to their values before joining, 0
+  //    (build_lattice, sparse_zero_view). Every row listed now is reset; the saved ones are
+  //    written again below.
   for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
     const StateRows kind = state_rows(name);
     if (kind != StateRows::converted_cells && kind != StateRows::used_bonds &&
@@ -111,11 +111,7 @@ void StateSnapshot::restore(Model& m, StateViews live) const {
       return;
     const Rows rows = rows_to_keep(name, view, live, now, elements);
     if (rows.map.list.extent(0) == 0) return;  // every row is saved
-    using V = std::decay_t<decltype(view)>;
-    V initial;
-    if constexpr (std::is_same_v<V, decltype(m.bonds.length0)>)
-      if (std::string_view(name) == "bonds.rest_length") initial = m.bonds.length0;
-    reset_rows(view, rows.map, rows.count, initial);
+    reset_rows(view, rows.map, rows.count);
   });
   // 2. The lists, then 3. every other view's rows through them.
   for (const bool lists : {true, false}) {

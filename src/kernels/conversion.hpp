@@ -132,6 +132,9 @@ inline void activate_element_bonds(const View<int*>& converted, int count,
         for (int a = 0; a < 6; ++a) {
           const int b = element_bonds(e, a);
           if (b < 0 || bonds.state(b) == kBondBroken) continue;  // a crack stays a crack
+          // A slot's natural length is set when it is first activated (the other cell of an
+          // edge may write the same value at once); before, it is 0, as all its state.
+          if (bonds.state(b) == kBondInactive) bonds.rest_length(b) = bonds.length0(b);
           Kokkos::atomic_add(&bonds.kn(b), a < 4 ? 0.5 * s.k1 : s.k2);
           if (a < 4) Kokkos::atomic_add(&bonds.ks(b), 0.5 * s.ks);
           bonds.material(b) = elements.material(e);

@@ -58,20 +58,18 @@ inline void scatter_rows(const RowBuffer<V>& buffer, const RowMap& map, const in
       });
 }
 
-// view(map(r), c) = initial(map(r), c) for r < rows, or 0 where `initial` is empty: the value a
-// row had before it joined its list.
+// view(map(r), c) = 0 for r < rows: the value a row had before it joined its list.
 template <class V>
-inline void reset_rows(const V& view, const RowMap& map, const int rows, const V& initial) {
+inline void reset_rows(const V& view, const RowMap& map, const int rows) {
   const int columns = columns_of(view);
-  const bool zero = initial.extent(0) == 0;
   using Value = typename V::non_const_value_type;
   Kokkos::parallel_for(
       "fracta::reset_rows", Kokkos::RangePolicy<ExecSpace>(0, rows), KOKKOS_LAMBDA(const int r) {
         const int row = map(r);
         if constexpr (V::rank == 1)
-          view(row) = zero ? Value(0) : initial(row);
+          view(row) = Value(0);
         else
-          for (int c = 0; c < columns; ++c) view(row, c) = zero ? Value(0) : initial(row, c);
+          for (int c = 0; c < columns; ++c) view(row, c) = Value(0);
       });
 }
 
