@@ -40,7 +40,7 @@ int check_case(const fracta::Case& c) {
   using namespace fracta;
   const HostMesh mesh = build_mesh(c);
   const int qp = c.sim.integration == Integration::full ? 4 : 1;
-  const double memory = estimate_memory(c).bytes;  // what build_mesh checked against
+  const MemoryEstimate memory = estimate_memory(c);  // what build_mesh checked against
   Simulation sim(c);  // validates what the mesh alone cannot (lattice range, stable dt, ...)
   const HistoryRecord h = sim.history();
   const Model& m = sim.model();
@@ -81,7 +81,13 @@ int check_case(const fracta::Case& c) {
   for (const std::string& note : m.notes) std::printf("  note: %s\n", note.c_str());
   std::printf("  loads %zu, boundary sets %zu, probes %zu, body probes %zu\n", c.loads.size(),
               c.boundaries.size(), c.probes.size(), c.body_probes.size());
-  std::printf("  memory estimate %s (peak of a run)\n", format_bytes(memory).c_str());
+  if (memory.bytes_all_converted > 1.001 * memory.bytes)
+    std::printf(
+        "  memory estimate %s (peak of a run; up to %s if every cell of the adaptive bodies "
+        "converts)\n",
+        format_bytes(memory.bytes).c_str(), format_bytes(memory.bytes_all_converted).c_str());
+  else
+    std::printf("  memory estimate %s (peak of a run)\n", format_bytes(memory.bytes).c_str());
   std::printf("  stable dt bound %.4g s; dt %.4g s (%s); about %.0f steps\n", sim.stable_dt_bound(),
               sim.dt(), c.sim.dt > 0 ? "fixed" : "dt_safety x bound",
               c.sim.end_time / std::max(sim.dt(), 1e-300));

@@ -20,7 +20,11 @@ struct BodyGrid {
 BodyGrid body_grid(const Body& b);
 
 struct MemoryEstimate {
-  double bytes = 0;       // peak resident memory of a run (B), see memory.cpp for what it counts
+  // Peak resident memory of a run (B), see memory.cpp for what it counts: with the cells of the
+  // adaptive bodies as FE (the memory a cell's lattice state takes grows as it converts:
+  // sparse_zero_view, model.hpp), and if every one of them converts.
+  double bytes = 0;
+  double bytes_all_converted = 0;
   double cells = 0;       // upper bound: every cell of every body's bounding-box grid
   double nodes = 0;       // upper bound, likewise
   int largest_body = -1;  // the body with the largest share of `bytes` (-1: no body)
@@ -33,7 +37,8 @@ MemoryEstimate estimate_memory(const Case& c);
 double available_memory_bytes();
 
 // Throws InputError at the largest body's cell_size when the case would need more cells than
-// the mesh's 32-bit indices can address, or more memory than available_memory_bytes().
+// the mesh's 32-bit indices can address, or more memory than available_memory_bytes() at its
+// start (MemoryEstimate::bytes).
 void check_memory(const Case& c);
 
 // Fixes glibc's mmap threshold at 1 MiB, so every host block of 1 MiB or more (a large mesh's

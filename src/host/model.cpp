@@ -754,6 +754,23 @@ Model build_model(const Case& c) {
       model.notes.push_back(note);
     }
   }
+  {
+    // An adaptive body's lattice state takes memory as its cells convert (sparse_zero_view):
+    // build_mesh refuses a case that does not fit at its start; say how much of it may convert
+    // when not all of it fits.
+    const MemoryEstimate e = estimate_memory(c);
+    const double available = available_memory_bytes();
+    if (available > 0 && e.bytes < available && e.bytes_all_converted > available) {
+      char note[320];
+      std::snprintf(note, sizeof note,
+                    "memory: the run needs about %s at its start and %s of it is available, but "
+                    "%s if every cell of its adaptive bodies converts: about %.0f %% of them can",
+                    format_bytes(e.bytes).c_str(), format_bytes(available).c_str(),
+                    format_bytes(e.bytes_all_converted).c_str(),
+                    100.0 * (available - e.bytes) / (e.bytes_all_converted - e.bytes));
+      model.notes.push_back(note);
+    }
+  }
   model.scene = c;
   model.mesh = build_mesh(c);
   const HostMesh& m = model.mesh;

@@ -236,7 +236,9 @@ std::string plate_case(const fs::path& dir, const std::string& method, double ce
 TEST(Memory, EstimateBoundsTheMeasuredPeakRss) {
   const fs::path dir = fs::temp_directory_path() / "fracta_memory_test";
   fs::create_directories(dir);
-  for (const char* method : {"fe", "de"})
+  // An adaptive body that does not convert (4 steps at rest) peaks at MemoryEstimate::bytes,
+  // its lattice state not yet used.
+  for (const char* method : {"fe", "de", "adaptive"})
     for (double cell : {2e-4, 1e-4}) {  // 45 000 and 180 000 cells
       const std::string path = plate_case(dir, method, cell);
       const double measured = 1024.0 * child_peak_rss_kib(path, (dir / "out.h5").string());
@@ -246,6 +248,24 @@ TEST(Memory, EstimateBoundsTheMeasuredPeakRss) {
       EXPECT_GE(estimate, measured) << method << " " << cell;
       EXPECT_LE(estimate, 1.6 * measured) << method << " " << cell;
     }
+  fs::remove_all(dir);
+}
+
+// Memory for an adaptive body's start but not for all of it converted: the run starts, with a
+// note of the share of its cells that can convert (the estimate's arithmetic: exact).
+TEST(Memory, AdaptiveBodyThatFitsOnlyAtItsStartGetsANote) {
+  const fs::path dir = fs::temp_directory_path() / "fracta_memory_note_test";
+  fs::create_directories(dir);
+  const Case c = load_case(plate_case(dir, "adaptive", 2e-4));
+  const MemoryEstimate e = estimate_memory(c);
+  ASSERT_GT(e.bytes_all_converted, 1.5 * e.bytes);
+  const double limit = 0.5 * (e.bytes + e.bytes_all_converted);  // half of the cells can convert
+  MemoryLimit memory_limit(std::to_string(limit).c_str());
+  const Model m = build_model(c);
+  std::string memory_note;
+  for (const std::string& note : m.notes)
+    if (note.rfind("memory:", 0) == 0) memory_note = note;
+  EXPECT_NE(memory_note.find("about 50 % of them can"), std::string::npos) << memory_note;
   fs::remove_all(dir);
 }
 #endif  // FRACTA_RSS_IS_MEANINGFUL
