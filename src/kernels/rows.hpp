@@ -28,19 +28,41 @@ inline int columns_of(const V& v) {
     return static_cast<int>(v.extent(1));
 }
 
+// One row's copies, by the view's rank (functions, not in the kernels' lambdas: nvcc's device
+// lambdas may not capture first inside an `if constexpr`).
+template <class V>
+KOKKOS_INLINE_FUNCTION void row_to_buffer(const V& view, const int row, const RowBuffer<V>& buffer,
+                                          const int r, const int columns) {
+  if constexpr (V::rank == 1)
+    buffer(r, 0) = view(row);
+  else
+    for (int c = 0; c < columns; ++c) buffer(r, c) = view(row, c);
+}
+template <class V>
+KOKKOS_INLINE_FUNCTION void buffer_to_row(const RowBuffer<V>& buffer, const int r, const V& view,
+                                          const int row, const int columns) {
+  if constexpr (V::rank == 1)
+    view(row) = buffer(r, 0);
+  else
+    for (int c = 0; c < columns; ++c) view(row, c) = buffer(r, c);
+}
+template <class V>
+KOKKOS_INLINE_FUNCTION void zero_row(const V& view, const int row, const int columns) {
+  using Value = typename V::non_const_value_type;
+  if constexpr (V::rank == 1)
+    view(row) = Value(0);
+  else
+    for (int c = 0; c < columns; ++c) view(row, c) = Value(0);
+}
+
 // buffer(r, c) = view(map(r), c) for r < rows.
 template <class V>
 inline void gather_rows(const V& view, const RowMap& map, const int rows,
                         const RowBuffer<V>& buffer) {
   const int columns = columns_of(view);
   Kokkos::parallel_for(
-      "fracta::gather_rows", Kokkos::RangePolicy<ExecSpace>(0, rows), KOKKOS_LAMBDA(const int r) {
-        const int row = map(r);
-        if constexpr (V::rank == 1)
-          buffer(r, 0) = view(row);
-        else
-          for (int c = 0; c < columns; ++c) buffer(r, c) = view(row, c);
-      });
+      "fracta::gather_rows", Kokkos::RangePolicy<ExecSpace>(0, rows),
+      KOKKOS_LAMBDA(const int r) { row_to_buffer(view, map(r), buffer, r, columns); });
 }
 
 // view(map(r), c) = buffer(r, c) for r < rows.
@@ -49,28 +71,17 @@ inline void scatter_rows(const RowBuffer<V>& buffer, const RowMap& map, const in
                          const V& view) {
   const int columns = columns_of(view);
   Kokkos::parallel_for(
-      "fracta::scatter_rows", Kokkos::RangePolicy<ExecSpace>(0, rows), KOKKOS_LAMBDA(const int r) {
-        const int row = map(r);
-        if constexpr (V::rank == 1)
-          view(row) = buffer(r, 0);
-        else
-          for (int c = 0; c < columns; ++c) view(row, c) = buffer(r, c);
-      });
+      "fracta::scatter_rows", Kokkos::RangePolicy<ExecSpace>(0, rows),
+      KOKKOS_LAMBDA(const int r) { buffer_to_row(buffer, r, view, map(r), columns); });
 }
 
 // view(map(r), c) = 0 for r < rows: the value a row had before it joined its list.
 template <class V>
 inline void reset_rows(const V& view, const RowMap& map, const int rows) {
   const int columns = columns_of(view);
-  using Value = typename V::non_const_value_type;
   Kokkos::parallel_for(
-      "fracta::reset_rows", Kokkos::RangePolicy<ExecSpace>(0, rows), KOKKOS_LAMBDA(const int r) {
-        const int row = map(r);
-        if constexpr (V::rank == 1)
-          view(row) = Value(0);
-        else
-          for (int c = 0; c < columns; ++c) view(row, c) = Value(0);
-      });
+      "fracta::reset_rows", Kokkos::RangePolicy<ExecSpace>(0, rows),
+      KOKKOS_LAMBDA(const int r) { zero_row(view, map(r), columns); });
 }
 
 }  // namespace fracta
