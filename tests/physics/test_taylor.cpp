@@ -172,15 +172,21 @@ TEST(TaylorImpact, RodOnRodMatchesRodOnARigidWall) {
   const auto lower = shape_of(sim, -gap, false);
   EXPECT_NEAR(upper[0], expected[0], 0.005 * expected[0]);
   EXPECT_NEAR(upper[1], expected[1], 0.02 * expected[1]);
-  EXPECT_NEAR(lower[0], upper[0], 1e-5 * upper[0]);  // mirror images (round-off in the contact)
-  EXPECT_NEAR(lower[1], upper[1], 1e-5 * upper[1]);
+  // Mirror images, to round-off in the contact (host path: 1e-5). On the device path the order
+  // of the atomic sums changes from run to run and the plastic flow carries it on: the
+  // footprints differ by 5.9e-6 in most runs, up to 1.4e-5 in one of about 90.
+  const double mirror = kAtomicScatter ? 5e-5 : 1e-5;
+  EXPECT_NEAR(lower[0], upper[0], mirror * upper[0]);
+  EXPECT_NEAR(lower[1], upper[1], mirror * upper[1]);
   EXPECT_LT(drift, 1e-12 * p_scale);
   EXPECT_LT(worst, 1e-4);
   EXPECT_GT(sim.history().energy.contact, 0.0);
   std::printf(
       "rod on rod at 2 x 95 m/s: length %.3f mm, footprint %.3f mm; on the wall %.3f, "
-      "%.3f mm; momentum %.3g of m v, energy error %.3g\n",
-      1e3 * upper[0], 1e3 * upper[1], 1e3 * expected[0], 1e3 * expected[1], drift / p_scale, worst);
+      "%.3f mm; momentum %.3g of m v, energy error %.3g; mirror difference %.3g (length), %.3g "
+      "(footprint)\n",
+      1e3 * upper[0], 1e3 * upper[1], 1e3 * expected[0], 1e3 * expected[1], drift / p_scale, worst,
+      std::fabs(lower[0] - upper[0]) / upper[0], std::fabs(lower[1] - upper[1]) / upper[1]);
 }
 
 }  // namespace
