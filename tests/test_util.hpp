@@ -320,13 +320,8 @@ inline StateCopy copy_state(Simulation& sim) {
     const auto host = Kokkos::create_mirror_view_and_copy(HostSpace(), view);
     using Value = typename std::decay_t<decltype(host)>::non_const_value_type;
     size_t size = host.span();
-    if (state_rows(name) == StateRows::list_prefix && size > 0) {
-      const std::string_view n = name;
-      size = static_cast<size_t>(n == "converted"             ? lists.converted
-                                 : n == "bonds.used"          ? lists.used_bonds
-                                 : n == "nodes.particle_list" ? lists.particles
-                                                              : lists.active_elements);
-    }
+    if (state_rows(name) == StateRows::list_prefix && size > 0)
+      size = static_cast<size_t>(state_list_length(name, lists));
     copy.names.emplace_back(name);
     copy.reals.emplace_back();
     copy.ints.emplace_back();

@@ -10,14 +10,6 @@ namespace fracta {
 
 namespace {
 
-// The length of the list named `name` (StateRows::list_prefix).
-int list_length(std::string_view name, const ListCounts& lengths) {
-  if (name == "converted") return lengths.converted;
-  if (name == "bonds.used") return lengths.used_bonds;
-  if (name == "nodes.particle_list") return lengths.particles;
-  return lengths.active_elements;  // elements.active
-}
-
 struct Rows {
   RowMap map;
   int count = 0;
@@ -33,7 +25,7 @@ Rows rows_to_keep(std::string_view name, const V& view, const StateViews& lists,
   if (extent == 0) return {};
   switch (state_rows(name)) {
     case StateRows::list_prefix:
-      return {{}, list_length(name, lengths)};
+      return {{}, state_list_length(name, lengths)};
     case StateRows::active_elements:
       if (element_count > 0 && extent % element_count == 0) {
         const int per = extent / element_count;  // 1, or the quadrature points
@@ -57,15 +49,16 @@ Rows rows_to_keep(std::string_view name, const V& view, const StateViews& lists,
   return {{}, extent};
 }
 
-template <class V>
-auto& buffer_of(const V&, View<double**>& reals, View<int**>& ints) {
+// The buffer of a view of `view`'s value type in s (const or not).
+template <class V, class S>
+auto& buffer_of(const V&, S& s) {
   using Value = typename V::non_const_value_type;
   static_assert(std::is_same_v<Value, double> || std::is_same_v<Value, int>,
                 "a state view of another value type needs a buffer of its own");
   if constexpr (std::is_same_v<Value, double>)
-    return reals;
+    return s.reals;
   else
-    return ints;
+    return s.ints;
 }
 
 }  // namespace
@@ -77,7 +70,7 @@ void StateSnapshot::save(const Model& m, StateViews live) {
     if (saved_.size() <= index) saved_.emplace_back();
     Saved& s = saved_[index++];
     const Rows rows = rows_to_keep(name, view, live, lists_, m.elements.count);
-    auto& buffer = buffer_of(view, s.reals, s.ints);
+    auto& buffer = buffer_of(view, s);
     const int columns = columns_of(view);
     if (static_cast<int>(buffer.extent(0)) < rows.count ||
         static_cast<int>(buffer.extent(1)) != columns) {
@@ -95,7 +88,6 @@ void StateSnapshot::save(const Model& m, StateViews live) {
     gather_rows(view, rows.map, rows.count, buffer);
     s.rows = rows.count;
   });
-  taken_ = true;
 }
 
 void StateSnapshot::restore(Model& m, StateViews live) const {
@@ -119,10 +111,8 @@ void StateSnapshot::restore(Model& m, StateViews live) const {
     for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
       const Saved& s = saved_[index++];
       if ((state_rows(name) == StateRows::list_prefix) != lists) return;
-      View<double**> reals = s.reals;
-      View<int**> ints = s.ints;
       const Rows rows = rows_to_keep(name, view, live, lists_, elements);
-      scatter_rows(buffer_of(view, reals, ints), rows.map, s.rows, view);
+      scatter_rows(buffer_of(view, s), rows.map, s.rows, view);
     });
   }
   lists_.apply_to(m);
@@ -133,6 +123,17 @@ double StateSnapshot::bytes() const {
   for (const Saved& s : saved_)
     total += s.reals.span() * sizeof(double) + s.ints.span() * sizeof(int);
   return total;
+}
+
+}  // namespace fracta
+
+namespace fracta {
+
+int state_list_length(std::string_view name, const ListCounts& lengths) {
+  if (name == "converted") return lengths.converted;
+  if (name == "bonds.used") return lengths.used_bonds;
+  if (name == "nodes.particle_list") return lengths.particles;
+  return lengths.active_elements;  // elements.active
 }
 
 }  // namespace fracta

@@ -7,12 +7,17 @@
 // joining, so the state is the saved one, bit for bit.
 #pragma once
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "host/ledger.hpp"
 #include "host/state_views.hpp"
 
 namespace fracta {
+
+// The length in `lengths` of the list named `name` (StateRows::list_prefix: converted,
+// bonds.used, nodes.particle_list, elements.active).
+int state_list_length(std::string_view name, const ListCounts& lengths);
 
 class StateSnapshot {
  public:
@@ -21,8 +26,6 @@ class StateSnapshot {
   void save(const Model& m, StateViews live);
   // Puts the saved state back into `live` and the lists' lengths into m.
   void restore(Model& m, StateViews live) const;
-  bool taken() const { return taken_; }
-  const ListCounts& lists() const { return lists_; }
   double bytes() const;  // device memory of the buffers (B)
 
  private:
@@ -33,7 +36,6 @@ class StateSnapshot {
   };
   std::vector<Saved> saved_;  // one per state view, in for_each_state_view's order
   ListCounts lists_;
-  bool taken_ = false;
 };
 
 }  // namespace fracta
