@@ -364,6 +364,7 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   const HostMesh& m = model.mesh;
   const int nn = m.node_count(), ne = m.element_count();
   const bool plane_strain = c.sim.formulation == Formulation::plane_strain;
+  const bool axisymmetric = c.sim.formulation == Formulation::axisymmetric;
 
   std::vector<std::array<int, 2>> slot_nodes;
   std::vector<int> slot_kind;
@@ -532,9 +533,12 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   }
   for (size_t mi = 0; mi < c.materials.size(); ++mi) {
     const Material& mat = c.materials[mi];
-    const LatticeStiffness s =
-        lattice_stiffness(mat.youngs_modulus, mat.poisson_ratio, plane_strain, c.sim.thickness);
-    stiffness.push_back(s);
+    // Rings (axisymmetric): plane stress per unit depth and the hoop term (LatticeStiffness).
+    LatticeStiffness s = axisymmetric
+                             ? axisymmetric_lattice_stiffness(mat.youngs_modulus, mat.poisson_ratio,
+                                                              0.0, mat.fracture_energy)
+                             : lattice_stiffness(mat.youngs_modulus, mat.poisson_ratio,
+                                                 plane_strain, c.sim.thickness);
     BondLaw law;
     law.youngs_modulus_eff = s.youngs_modulus_eff;
     law.poisson_ratio_eff = s.poisson_ratio_eff;
@@ -580,6 +584,10 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
     }
     law.rate = rate_law(mat.rate_dependence);
     laws.push_back(law);
+    // The hoop term's strength: the bonds' (capped as they are, so the band of one cell still
+    // dissipates G_f: HoopLaw).
+    s.hoop.tensile_strength = axisymmetric ? law.tensile_strength : 0.0;
+    stiffness.push_back(s);
   }
   model.lattice_stiffness = to_device_1d<LatticeStiffness>("lattice_stiffness", stiffness);
   model.bond_laws = to_device_1d<BondLaw>("bond_laws", laws);
@@ -587,12 +595,16 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   // beyond the pair lattice's Poisson limit. Other scenes allocate and launch nothing for it.
   bool cell_term = false;
   for (size_t mi = 0; mi < c.materials.size(); ++mi)
-    cell_term = cell_term || (largest_cell[mi] > 0.0 && stiffness[mi].kv > 0.0);
+    cell_term = cell_term ||
+                (largest_cell[mi] > 0.0 && (stiffness[mi].kv > 0.0 || stiffness[mi].hoop.active()));
   if (cell_term) {
     model.elements.cell_volumetric_strain =
         sparse_zero_view<View<double*>>("fracta::cell_volumetric_strain", model.elements.count);
     build_cell_scatter_plan(model.elements);
   }
+  if (cell_term && axisymmetric)
+    model.elements.cell_hoop =
+        sparse_zero_view<View<double* [4]>>("fracta::cell_hoop", model.elements.count);
   draw_heterogeneity(model);
 
   // Particle views of the nodes: radius half the cell, inertia m r^2 / 2, lambda k1.

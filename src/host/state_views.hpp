@@ -58,6 +58,7 @@ void for_each_state_view(StateViews& a, StateViews& b, F&& f) {
   f("elements.cell_cracked", e.cell_cracked, se.cell_cracked);
   // Empty without the lattice's cell term (cell_forces.hpp).
   f("elements.cell_volumetric_strain", e.cell_volumetric_strain, se.cell_volumetric_strain);
+  f("elements.cell_hoop", e.cell_hoop, se.cell_hoop);  // empty but for axisymmetric lattices
   f("bonds.state", bo.state, sb.state);
   f("bonds.material", bo.material, sb.material);  // set by the conversion that activates it
   f("bonds.kn", bo.kn, sb.kn);
@@ -103,7 +104,7 @@ inline StateRows state_rows(std::string_view name) {
   if (name.substr(0, 6) == "bonds.") return StateRows::used_bonds;
   // Not elements.cell_cracked: a broken bond marks the cells on both its sides, converted or not.
   if (is_one_of({"elements.cell_strain_offset", "elements.cell_stress", "elements.cell_state",
-                 "elements.cell_volumetric_strain"}))
+                 "elements.cell_volumetric_strain", "elements.cell_hoop"}))
     return StateRows::converted_cells;
   if (is_one_of({"nodes.particle", "nodes.rotation", "nodes.spin", "nodes.moment"}))
     return StateRows::particles;

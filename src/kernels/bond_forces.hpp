@@ -58,7 +58,8 @@ struct CellStress {
   template <class T>
   KOKKOS_INLINE_FUNCTION auto stress_of(const T (&x0)[4], const T (&y0)[4], const T (&x)[4],
                                         const T (&y)[4], const T (&offset)[3], int material,
-                                        const T& inverse_strength_scale, T (&stress)[3]) const {
+                                        const T& inverse_strength_scale, T (&stress)[3],
+                                        const double* hoop_state = nullptr) const {
     T ux[4], uy[4], green[3];
     for (int a = 0; a < 4; ++a) {
       ux[a] = x[a] - x0[a];
@@ -70,8 +71,26 @@ struct CellStress {
     const T exy = green[2] - offset[2];
     const LatticeStiffness s = stiffness(material);
     const double c = s.youngs_modulus_eff / (1.0 - s.poisson_ratio_eff * s.poisson_ratio_eff);
-    const T sxx = c * (exx + s.poisson_ratio_eff * eyy);
-    const T syy = c * (eyy + s.poisson_ratio_eff * exx);
+    T sxx = c * (exx + s.poisson_ratio_eff * eyy);
+    T syy = c * (eyy + s.poisson_ratio_eff * exx);
+    // Rings (one cell, hoop_state its Elements::cell_hoop row): the hoop term's share of the
+    // in-plane stress, (lambda / M) sigma_tt on both normal components (HoopLaw: the in-plane
+    // derivative of M w^2 / 2).
+    if constexpr (LaneCount<T>::value == 1) {
+      if (s.hoop.active() && hoop_state != nullptr) {
+        double r0 = 0.0, r = 0.0;
+        for (int a = 0; a < 4; ++a) {
+          r0 += 0.25 * x0[a];
+          r += 0.25 * x[a];
+        }
+        const double ratio = s.hoop.lambda / s.hoop.p_wave_modulus;
+        const double w =
+            0.5 * ((r / r0) * (r / r0) - 1.0) - hoop_state[kHoopOffset] + ratio * (exx + eyy);
+        const double share = ratio * s.hoop.stress(w, hoop_state[kHoopDamage]);
+        sxx += share;
+        syy += share;
+      }
+    }
     const T sxy = s.youngs_modulus_eff / (1.0 + s.poisson_ratio_eff) * exy;
     stress[0] = sxx;
     stress[1] = syy;
@@ -108,7 +127,12 @@ struct CellStress {
     const double scale = elements.cell_inverse_strength_scale.extent(0) > 0
                              ? elements.cell_inverse_strength_scale(e)
                              : 1.0;
-    const bool below = stress_of(x0, y0, x, y, offset, elements.material(e), scale, stress);
+    double hoop_state[4];
+    const bool hoop = elements.cell_hoop.extent(0) > 0;
+    if (hoop)
+      for (int k = 0; k < 4; ++k) hoop_state[k] = elements.cell_hoop(e, k);
+    const bool below = stress_of(x0, y0, x, y, offset, elements.material(e), scale, stress,
+                                 hoop ? hoop_state : nullptr);
     for (int k = 0; k < 3; ++k) elements.cell_stress(e, k) = stress[k];
     elements.cell_state(e) = state_of(e, below);
   }
@@ -138,9 +162,10 @@ struct CellStress {
     const int first = batch_index * kLanes;
 #ifdef FRACTA_HOST_SIMD
     // Row batches need the interleaved (LayoutRight) node and cell arrays of the CPU build.
-    if (row_batches && first + kLanes <= count && nodes.x.stride_0() == 2 &&
-        nodes.x0.stride_0() == 2 && elements.cell_stress.stride_0() == 3 &&
-        elements.cell_strain_offset.stride_0() == 3) {
+    // (Not rings: their hoop term's share is added cell by cell.)
+    if (row_batches && elements.cell_hoop.extent(0) == 0 && first + kLanes <= count &&
+        nodes.x.stride_0() == 2 && nodes.x0.stride_0() == 2 &&
+        elements.cell_stress.stride_0() == 3 && elements.cell_strain_offset.stride_0() == 3) {
       int node[4][8];
       bool row = true;
       const int e0 = cells(first);

@@ -7,6 +7,7 @@
 
 #include "kernels/compat.hpp"
 #include "kernels/integrate.hpp"
+#include "kernels/laws.hpp"
 #include "kernels/simd.hpp"
 #include "kernels/state.hpp"
 
@@ -27,10 +28,13 @@ namespace fracta {
 //    (Zhao, Fang & Zhao 2011, Int. J. Numer. Anal. Meth. Geomech. 35: 859-885); Li & He (2026,
 //    arXiv:2605.15209) with volumetric constraints, as here: an energy per intact cell
 //    (cell_forces.hpp). Continuous at lambda = mu, where ks and kv are both 0.
+// Axisymmetric lattices (rings): the stiffnesses are those of plane stress per unit depth, each
+// cell's taken times its depth 2 pi r0 (cell_depth), and `hoop` completes the 3D law (HoopLaw).
 struct LatticeStiffness {
   double k1 = 0, k2 = 0, ks = 0;
   double kv = 0;  // volumetric stiffness of an intact cell (N/m): energy kv A0 tr(eps)^2 / 2
   double youngs_modulus_eff = 0, poisson_ratio_eff = 0;
+  HoopLaw hoop;  // axisymmetric lattices only (hoop.active()); else all 0
 };
 
 KOKKOS_INLINE_FUNCTION LatticeStiffness lattice_stiffness(double E, double nu, bool plane_strain,
@@ -50,6 +54,30 @@ KOKKOS_INLINE_FUNCTION LatticeStiffness lattice_stiffness(double E, double nu, b
     s.kv = (lambda - mu) * thickness;
   }
   return s;
+}
+
+// The lattice of an axisymmetric body: plane stress per unit depth (the pair springs and the
+// volumetric term then give C11 = M - lambda^2 / M, C12 = lambda - lambda^2 / M, C66 = mu: the 3D
+// law with sigma_tt = 0), and the cell hoop term (HoopLaw) with the 3D constants; hoop strength
+// and fracture energy are the material's (Pa, J/m^2).
+inline LatticeStiffness axisymmetric_lattice_stiffness(double E, double nu, double tensile_strength,
+                                                       double fracture_energy) {
+  LatticeStiffness s = lattice_stiffness(E, nu, false, 1.0);
+  s.hoop.lambda = nu * E / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  s.hoop.p_wave_modulus = s.hoop.lambda + E / (1.0 + nu);
+  s.hoop.tensile_strength = tensile_strength;
+  s.hoop.fracture_energy = fracture_energy;
+  return s;
+}
+
+// The depth of cell e of the lattice: 2 pi r0 for rings (r0 the mean reference radius of its
+// corners, where its hoop strain is taken), else 1 (the stiffnesses carry the thickness).
+KOKKOS_INLINE_FUNCTION double cell_depth(const LatticeStiffness& s, const Elements& el,
+                                         const Nodes& nodes, const int e) {
+  if (!s.hoop.active()) return 1.0;
+  double r0 = 0.0;
+  for (int a = 0; a < 4; ++a) r0 += 0.25 * nodes.x0(el.nodes(e, a), 0);
+  return kTwoPi * r0;
 }
 
 // Area of a quadrilateral with corners (x, y) counter-clockwise (m^2).
@@ -129,14 +157,15 @@ inline void activate_element_bonds(const View<int*>& converted, int count,
       KOKKOS_LAMBDA(const int k) {
         const int e = converted(k);
         const LatticeStiffness s = stiffness(elements.material(e));
+        const double depth = cell_depth(s, elements, nodes, e);
         for (int a = 0; a < 6; ++a) {
           const int b = element_bonds(e, a);
           if (b < 0 || bonds.state(b) == kBondBroken) continue;  // a crack stays a crack
           // A slot's natural length is set when it is first activated (the other cell of an
           // edge may write the same value at once); before, it is 0, as all its state.
           if (bonds.state(b) == kBondInactive) bonds.rest_length(b) = bonds.length0(b);
-          Kokkos::atomic_add(&bonds.kn(b), a < 4 ? 0.5 * s.k1 : s.k2);
-          if (a < 4) Kokkos::atomic_add(&bonds.ks(b), 0.5 * s.ks);
+          Kokkos::atomic_add(&bonds.kn(b), depth * (a < 4 ? 0.5 * s.k1 : s.k2));
+          if (a < 4) Kokkos::atomic_add(&bonds.ks(b), depth * 0.5 * s.ks);
           bonds.material(b) = elements.material(e);
           bonds.state(b) = kBondActive;
         }
@@ -453,16 +482,17 @@ inline double prestress_converted_bonds(const View<int*>& cells, int count,
         const int e = cells(k);
         energy += el.recoverable_work(e);
         const LatticeStiffness s = stiffness(el.material(e));
-        double sig[3] = {0, 0, 0};  // xx, yy, xy averaged over the quadrature points
-        for (int g = 0; g < qp; ++g) {
-          sig[0] += el.stress(e * qp + g, 0) / qp;
-          sig[1] += el.stress(e * qp + g, 1) / qp;
-          sig[2] += el.stress(e * qp + g, 3) / qp;
-        }
-        // In-plane compliance of the formulation (plane strain through E*, nu*).
+        const double depth = cell_depth(s, el, nodes, e);
+        double sig[4] = {0, 0, 0, 0};  // xx, yy, zz, xy averaged over the quadrature points
+        for (int g = 0; g < qp; ++g)
+          for (int q = 0; q < 4; ++q) sig[q] += el.stress(e * qp + g, q) / qp;
+        // In-plane compliance of the formulation (plane strain through E*, nu*); rings: the 3D
+        // compliance (E, nu are then the material's own), with the hoop stress sig[2].
         const double E = s.youngs_modulus_eff, nu = s.poisson_ratio_eff;
-        const double exx = (sig[0] - nu * sig[1]) / E, eyy = (sig[1] - nu * sig[0]) / E;
-        const double exy = sig[2] * (1.0 + nu) / E;
+        const double szz = s.hoop.active() ? sig[2] : 0.0;
+        const double exx = (sig[0] - nu * (sig[1] + szz)) / E;
+        const double eyy = (sig[1] - nu * (sig[0] + szz)) / E;
+        const double exy = sig[3] * (1.0 + nu) / E;
         // The cell's strain beyond its elastic part (plastic flow, and the FE kinematics'
         // difference from Green-Lagrange) is an offset, so the cell stress starts at sigma.
         double green[3];
@@ -471,8 +501,20 @@ inline double prestress_converted_bonds(const View<int*>& cells, int count,
         el.cell_strain_offset(e, 1) = green[1] - eyy;
         el.cell_strain_offset(e, 2) = green[2] - exy;
         // The volumetric cell term (cell_forces.hpp) starts from the same elastic strain.
-        if (el.cell_volumetric_strain.extent(0) > 0 && s.kv > 0.0)
+        if (el.cell_volumetric_strain.extent(0) > 0 && (s.kv > 0.0 || s.hoop.active()))
           el.cell_volumetric_strain(e) = exx + eyy;
+        // And the hoop term (HoopLaw): w = sigma_tt / M, the hoop strain beyond the elastic one
+        // an offset, undamaged.
+        if (s.hoop.active()) {
+          const double ett = (szz - nu * (sig[0] + sig[1])) / E;
+          const double r0 = depth / kTwoPi;
+          double r = 0.0;
+          for (int a = 0; a < 4; ++a) r += 0.25 * nodes.x(el.nodes(e, a), 0);
+          el.cell_hoop(e, kHoopOffset) = 0.5 * ((r / r0) * (r / r0) - 1.0) - ett;
+          el.cell_hoop(e, kHoopStrain) = szz / s.hoop.p_wave_modulus;
+          el.cell_hoop(e, kHoopDamage) = 0.0;
+          el.cell_hoop(e, kHoopLargest) = 0.0;
+        }
         for (int a = 0; a < 6; ++a) {
           const int b = element_bonds(e, a);
           if (b < 0 || bonds.state(b) == kBondBroken) continue;
@@ -481,7 +523,8 @@ inline double prestress_converted_bonds(const View<int*>& cells, int count,
           const double L = sqrt_(dx * dx + dy * dy), nx = dx / L, ny = dy / L;
           const double en = exx * nx * nx + eyy * ny * ny + 2.0 * exy * nx * ny;
           const double et = -(exx * nx + exy * ny) * ny + (exy * nx + eyy * ny) * nx;
-          const double kn_e = a < 4 ? 0.5 * s.k1 : s.k2, ks_e = a < 4 ? 0.5 * s.ks : 0.0;
+          const double kn_e = depth * (a < 4 ? 0.5 * s.k1 : s.k2);
+          const double ks_e = depth * (a < 4 ? 0.5 * s.ks : 0.0);
           Kokkos::atomic_add(&bonds.fn(b), kn_e * L * en);
           if (ks_e > 0.0) Kokkos::atomic_add(&bonds.fs(b), ks_e * L * et);
         }

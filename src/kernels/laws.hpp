@@ -339,6 +339,49 @@ struct BondLaw {
   }
 };
 
+// Hoop response of a cell of an axisymmetric lattice (docs/physics.md 1.2, "Axisymmetric discs").
+// The discs are rings and the pair springs carry the in-plane law of plane stress (sigma_tt = 0);
+// each intact cell adds
+//
+//   W = V (1 - d [w > 0]) M w^2 / 2,   w = E_tt + (lambda / M) tr(E_in) = sigma_tt / M,
+//
+// (V = 2 pi r0 A0 its volume of revolution, E_tt = ((r / r0)^2 - 1) / 2 its Green-Lagrange hoop
+// strain, r the mean radius of its discs), which completes plane stress to the 3D isotropic law
+// exactly: W_plane_stress(E_in) + M w^2 / 2 = W_3D(E_in, E_tt), since plane stress is the 3D law
+// with sigma_tt eliminated. Radial cracks (planes through the axis) cannot be resolved in the
+// meridian plane, so they are smeared: the hoop stress sigma_tt = M w (1 - d) softens linearly
+// once it reaches the tensile strength, over a crack band of the cell's size l (Bazant & Oh 1983,
+// Mater. Struct. 16; the band of LS-DYNA's and Abaqus's smeared-crack concrete in axisymmetric
+// elements), with d the secant damage of the largest w reached, so that a cell stretched along
+// the hoop direction dissipates G_f V / l. Compression (w < 0) is undamaged: a closed radial crack
+// carries hoop compression. A fully damaged cell keeps the plane-stress lattice: hoop-free rubble.
+// Its members touch no view; per-cell values are arguments.
+struct HoopLaw {
+  double p_wave_modulus = 0;    // M = lambda + 2 mu of the 3D law (Pa); 0: a plane lattice
+  double lambda = 0;            // Lame's first constant of the 3D law (Pa)
+  double tensile_strength = 0;  // Pa; 0 = no hoop failure
+  double fracture_energy = 0;   // G_f (J/m^2); 0 = brittle (d jumps to 1 at the strength)
+
+  KOKKOS_INLINE_FUNCTION bool active() const { return p_wave_modulus > 0.0; }
+
+  // Damage after the largest hoop strain `largest` (of w) in a band of length `band` (m): 0 up to
+  // the onset w0 = sigma_t / M, then d = w_f (w - w0) / (w (w_f - w0)) to 1 at
+  // w_f = 2 G_f / (sigma_t band) (linear softening of sigma_tt from sigma_t to 0). A band too
+  // long for G_f (w_f <= w0: the softening would snap back) fails at once.
+  KOKKOS_INLINE_FUNCTION double damage(const double largest, const double band) const {
+    if (!(tensile_strength > 0.0)) return 0.0;
+    const double onset = tensile_strength / p_wave_modulus;
+    if (largest <= onset) return 0.0;
+    const double final_w = 2.0 * fracture_energy / (tensile_strength * band);
+    if (final_w <= onset || largest >= final_w) return 1.0;
+    return final_w * (largest - onset) / (largest * (final_w - onset));
+  }
+  // The hoop stress sigma_tt (Pa) at w with damage d.
+  KOKKOS_INLINE_FUNCTION double stress(const double w, const double d) const {
+    return p_wave_modulus * w * (w > 0.0 ? 1.0 - d : 1.0);
+  }
+};
+
 // Disc-disc contact (docs/physics.md 1.2, "Contact"): a spring-dashpot in compression with
 // regularised Coulomb friction. For a pair of overlap delta, closing rate delta_dot and
 // tangential slip rate vt at the contact point:

@@ -94,12 +94,27 @@ KOKKOS_INLINE_FUNCTION T full_integration_stable_dt(const T (&x)[4], const T (&y
 // so the bound counts 1.55 kv on each diagonal (each corner is the end of one diagonal per
 // cell); between equal masses that is 1.9 times what the cell needs, room for the geometric
 // stiffness kv tr(eps) of strained cells.
+// Rings (axisymmetric lattices): the cell's terms take its depth 2 pi r0, and the hoop term
+// (HoopLaw) W = V M w^2 / 2 adds V M g_a g_b^T, g_a = dw/dx_a, with
+// |g_a|_1 <= 1 / (4 r0) + (lambda / M) |b_a|_1: a row sum of at most
+// V M g1^2 sum_b 1 / sqrt(m_a m_b), g1 = 1 / (4 r0) + (lambda / M) (1 / (2 h_x) + 1 / (2 h_y)),
+// the volumetric term's form with kv -> 2 V M g1^2. The cell of a diagonal is a rectangle of
+// sides h_x, h_y, the diagonal's components, and r0 its midpoint's radius (a perturbed cell's
+// differ by the perturbation: the factor's margin covers it).
 inline constexpr double kCellTermDiagonalFactor = 1.55;
 KOKKOS_INLINE_FUNCTION double cell_term_on_diagonal(
-    const Bonds& bonds, const int b, const View<const LatticeStiffness*>& stiffness) {
-  return stiffness.extent(0) > 0 && bonds.kind(b) == kBondDiagonal
-             ? kCellTermDiagonalFactor * stiffness(bonds.material(b)).kv
-             : 0.0;
+    const Nodes& nodes, const Bonds& bonds, const int b,
+    const View<const LatticeStiffness*>& stiffness) {
+  if (stiffness.extent(0) == 0 || bonds.kind(b) != kBondDiagonal) return 0.0;
+  const LatticeStiffness& s = stiffness(bonds.material(b));
+  if (!s.hoop.active()) return kCellTermDiagonalFactor * s.kv;
+  const int i = bonds.nodes(b, 0), j = bonds.nodes(b, 1);
+  const double r0 = 0.5 * (nodes.x0(i, 0) + nodes.x0(j, 0));
+  const double hx = fabs_(nodes.x0(j, 0) - nodes.x0(i, 0));
+  const double hy = fabs_(nodes.x0(j, 1) - nodes.x0(i, 1));
+  const double depth = kTwoPi * r0, volume = depth * hx * hy;
+  const double g1 = 0.25 / r0 + s.hoop.lambda / s.hoop.p_wave_modulus * (0.5 / hx + 0.5 / hy);
+  return kCellTermDiagonalFactor * (s.kv * depth + 2.0 * volume * s.hoop.p_wave_modulus * g1 * g1);
 }
 
 // What active bond b adds to the rows of its end s (0 or 1); cell_kv: the cell term it stands
@@ -132,7 +147,8 @@ struct GershgorinRows {
     if (bonds.state(b) != kBondActive) return;
     for (int s = 0; s < 2; ++s) {
       double trans, rot;
-      gershgorin_terms(nodes, bonds, b, s, trans, rot, cell_term_on_diagonal(bonds, b, stiffness));
+      gershgorin_terms(nodes, bonds, b, s, trans, rot,
+                       cell_term_on_diagonal(nodes, bonds, b, stiffness));
       Kokkos::atomic_add(&row(bonds.nodes(b, s), 0), trans);
       Kokkos::atomic_add(&row(bonds.nodes(b, s), 1), rot);
     }
@@ -254,7 +270,7 @@ inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, const Topol
             if (bonds.state(b) != kBondActive) continue;
             double trans, rot;
             gershgorin_terms(nodes, bonds, b, bonds.nodes(b, 0) == n ? 0 : 1, trans, rot,
-                             cell_term_on_diagonal(bonds, b, stiffness));
+                             cell_term_on_diagonal(nodes, bonds, b, stiffness));
             row_trans += trans;
             row_rot += rot;
           }

@@ -266,6 +266,10 @@ struct Topology {
   }
 };
 
+// Columns of Elements::cell_hoop: the hoop strain offset at conversion (E_tt less the elastic
+// hoop strain), w = sigma_tt / M of the last evaluation, the damage d, and the largest w reached.
+inline constexpr int kHoopOffset = 0, kHoopStrain = 1, kHoopDamage = 2, kHoopLargest = 3;
+
 struct Elements {
   View<int* [4]> nodes;  // counter-clockwise
   View<int*> material;   // index into the MaterialLaw table
@@ -285,6 +289,9 @@ struct Elements {
   // term of lattices beyond the pair lattice's Poisson limit (cell_forces.hpp); 0 for other
   // elements and once the cell cracked. Empty view when no material has the term.
   View<double*> cell_volumetric_strain;
+  // Hoop state of each converted cell of an axisymmetric lattice (cell_forces.hpp, HoopLaw), by
+  // the kHoop* columns; empty view for plane lattices.
+  View<double* [4]> cell_hoop;
   // The chunks of every mesh element for the cell term's scatter (kernels/scatter.hpp; located
   // in no list: the kernel skips what is not an intact converted cell). Empty with the view above.
   ScatterPlan cell_scatter;
