@@ -30,6 +30,9 @@ struct SupportDofs {
   // interval that stops the node; 0 for a component not caught then), for the force record.
   View<double*> catch_force;
   int count = 0;
+  // Components [projected_from, count) also move a caught node back onto the plane: the axis of
+  // an axisymmetric scene, behind which a ring would have a negative radius (model.cpp).
+  int projected_from = 0x7fffffff;
 };
 
 // The end of an elastic bar of impedance Z = rho_b c_b (Pa s/m) and cross-section A (m^2) on a
@@ -151,6 +154,7 @@ inline double update_supports(const Nodes& nodes, const SupportDofs& s,
   const auto f_ext = nodes.f_ext;
   const auto mass = nodes.mass;
   const auto catch_force = s.catch_force;
+  const int projected_from = s.projected_from;
   double work = 0.0;
   Kokkos::parallel_reduce(
       "fracta::update_supports", Kokkos::RangePolicy<ExecSpace>(0, s.count),
@@ -163,6 +167,7 @@ inline double update_supports(const Nodes& nodes, const SupportDofs& s,
           if (!UnilateralSupport::holds(sign, f(n, d) + f_ext(n, d))) fixed(n) &= ~bit;
         } else if (UnilateralSupport::catches(sign, sign * (x(n, d) - s.plane(k)), v(n, d))) {
           fixed(n) |= bit;
+          if (k >= projected_from) x(n, d) = s.plane(k);
           w -= 0.5 * mass(n) * v(n, d) * v(n, d);
           caught = kick_interval > 0.0 ? -mass(n) * v(n, d) / kick_interval : 0.0;
         }
