@@ -44,6 +44,10 @@ def main(argv=None):
 
     f = h5py.File(args.output, "r")
     case = tomllib.loads(f["run"].attrs["case"])
+    # Plane scenes are per metre of depth (or of their thickness); axisymmetric ones are the
+    # full revolution.
+    axisymmetric = case.get("simulation", {}).get("formulation") == "axisymmetric"
+    per = "" if axisymmetric else "/m"
     bodies = [b["name"] for b in case["body"]]
     materials = {m["name"]: m for m in case["material"]}
     ip, islab = bodies.index(args.projectile), bodies.index(args.slab)
@@ -102,7 +106,7 @@ def main(argv=None):
         f"{lo}{'-' + str(hi) if hi and hi != lo else ('+' if not hi else '')} nodes"
         for lo, hi in bins)
     print(f"\nFragments at {float(g['time'][()])*1e6:.0f} us: {len(mass)} ({hist}); "
-          f"largest masses {', '.join(f'{m:.3g}' for m in mass[:4])} kg/m.")
+          f"largest masses {', '.join(f'{m:.3g}' for m in mass[:4])} kg{per}.")
 
     worst = 0.0
     for kk in range(frame_count(f)):
@@ -118,7 +122,7 @@ def main(argv=None):
 
     e = h["energy"]
     e0 = float(e["kinetic"][0])
-    print(f"\nEnergy at the end, fraction of the initial kinetic energy {e0:.4g} J/m:")
+    print(f"\nEnergy at the end, fraction of the initial kinetic energy {e0:.4g} J{per}:")
     for name in ("kinetic", "internal", "plastic", "fracture", "contact", "conversion",
                  "hourglass", "viscous", "external"):
         if name in e:

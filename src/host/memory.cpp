@@ -91,6 +91,12 @@ constexpr double kRateNodeBytes = 2 * 16;
 // 16 B per pair).
 constexpr double kDiscBytes = 56 + 8 + 64 + 2 * (40 + 16);
 
+// Axisymmetric lattices (rings): each convertible cell's hoop state (Elements::cell_hoop, 32 B)
+// and volumetric strain (8 B), both in the failure snapshot's rows once it converts, and each of
+// its nodes' push-only support on the axis (node, component, sign, plane, catch force: 32 B).
+constexpr double kRingCellBytes = 2 * (32 + 8);
+constexpr double kRingNodeBytes = 32;
+
 // Indices are 32-bit ints (node ids, element ids, 4 bond slots per cell): keep well below.
 constexpr double kMaxCells = INT_MAX / 8.0;
 
@@ -130,6 +136,8 @@ MemoryEstimate estimate_memory(const Case& c) {
         bytes += cells * kWeibullCellBytes;
       if (material >= 0 && !c.materials[material].rate_dependence.strain_rate.empty())
         bytes += nodes * kRateNodeBytes;
+      if (c.sim.formulation == Formulation::axisymmetric)
+        bytes += cells * kRingCellBytes + nodes * kRingNodeBytes;
     } else if (lattice)
       bytes += 2 * (g.nx + g.ny) * kDiscBytes;  // boundary nodes
     e.cells += cells;
