@@ -268,7 +268,8 @@ struct Topology {
 
 // Columns of Elements::cell_hoop: the hoop strain offset at conversion (E_tt less the elastic
 // hoop strain), w = sigma_tt / M of the last evaluation, the damage d, and the largest w reached.
-inline constexpr int kHoopOffset = 0, kHoopStrain = 1, kHoopDamage = 2, kHoopLargest = 3;
+// (An enum, as the other columns and states: nvcc takes its values into device lambdas.)
+enum HoopColumn : int { kHoopOffset = 0, kHoopStrain = 1, kHoopDamage = 2, kHoopLargest = 3 };
 
 struct Elements {
   View<int* [4]> nodes;  // counter-clockwise
