@@ -296,18 +296,20 @@ BondStepResult Simulation::bond_forces(double dt) {
   BondStepResult r = compute_bond_forces(m.nodes, m.elements, m.bonds, m.bond_laws, dt);
   // After the bonds: a cell one of them cracked this step gives up its volumetric term now.
   if (cell_term_live())
-    r.fracture_energy += compute_cell_bulk_forces(m.nodes, m.elements, m.lattice_stiffness);
+    r.fracture_energy += compute_cell_bulk_forces(m.nodes, m.elements, m.lattice_stiffness,
+                                                  m.converted, m.converted_count);
   return r;
 }
 
 bool Simulation::cell_term_live() {
-  const Model& m = model_;
+  Model& m = model_;
   // The converted list only grows, and a restored state restores a prefix of it: its length
-  // says whether the count is current.
+  // says whether the count (and the converted cells per chunk of the term's plan) is current.
   if (m.converted_count != cell_term_counted_at_) {
     cell_term_counted_at_ = m.converted_count;
     cell_term_live_ =
         cell_term_cells(m.converted, m.converted_count, m.elements, m.lattice_stiffness) > 0;
+    if (cell_term_live_) count_cell_chunks(m.elements, m.converted, m.converted_count);
   }
   return cell_term_live_;
 }

@@ -135,13 +135,33 @@ struct CellBulkForces {
     if (hoop) elements.cell_hoop(e, kHoopStrain) = 0.0;
   }
 
-  // Atomic path (GPUs): one element per work item.
-  KOKKOS_INLINE_FUNCTION void operator()(const int e, double& released) const { cell(e, released); }
-  // Chunk path (CPUs): the elements [begin, end) in order (the plan is located in no list).
+  // Chunk path (CPUs): the elements [begin, end) in order (the plan is located in no list, so
+  // a chunk starts at a multiple of its size); a chunk without converted cells at once.
   KOKKOS_INLINE_FUNCTION void chunk(const int begin, const int end, double& released) const {
+    if (elements.cell_chunk_cells.extent(0) > 0 &&
+        elements.cell_chunk_cells(begin / elements.cell_scatter.chunk_size) == 0)
+      return;
     for (int e = begin; e < end; ++e) cell(e, released);
   }
 };
+
+// The converted cells per chunk of Elements::cell_scatter, from the converted list [0, count)
+// (after every change of it: a conversion, a restored state). Cells only convert, so the
+// chunks the kernel skips hold none of its work; the sums it makes are the same, bit for bit.
+inline void count_cell_chunks(Elements& elements, const View<int*>& converted, int count) {
+  const ScatterPlan& plan = elements.cell_scatter;
+  if (plan.chunks == 0 || plan.chunk_size == 0) return;
+  if (elements.cell_chunk_cells.extent(0) != static_cast<size_t>(plan.chunks))
+    elements.cell_chunk_cells = View<int*>("fracta::cell_chunk_cells", plan.chunks);
+  else
+    Kokkos::deep_copy(elements.cell_chunk_cells, 0);
+  if (count == 0) return;
+  const auto cells = elements.cell_chunk_cells;
+  const int size = plan.chunk_size;
+  Kokkos::parallel_for(
+      "fracta::count_cell_chunks", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(const int k) { Kokkos::atomic_add(&cells(converted(k) / size), 1); });
+}
 
 // The plan of Elements::cell_scatter: every mesh element, in no list (built once).
 inline void build_cell_scatter_plan(Elements& elements) {
@@ -150,19 +170,25 @@ inline void build_cell_scatter_plan(Elements& elements) {
 }
 
 // Adds the cell term's forces to nodes.f and returns the energy of the cells that cracked since
-// the last call (J). Nothing to do (and no launch) when no material has the term.
+// the last call (J). Nothing to do (and no launch) when no material has the term. CPUs: by the
+// chunks of every mesh element that hold converted cells (count_cell_chunks); GPUs (and a plan
+// that cannot be used): atomically over the converted list [0, count).
 inline double compute_cell_bulk_forces(const Nodes& nodes, const Elements& elements,
-                                       const View<const LatticeStiffness*>& stiffness) {
-  if (elements.cell_volumetric_strain.extent(0) == 0 || elements.count == 0) return 0.0;
+                                       const View<const LatticeStiffness*>& stiffness,
+                                       const View<int*>& converted, const int count) {
+  if (elements.cell_volumetric_strain.extent(0) == 0 || elements.count == 0 || count == 0)
+    return 0.0;
   const ScatterPlan& plan = elements.cell_scatter;
   double released = 0.0;
   if (plan.usable(elements.count)) {
     released = for_each_chunk<Kokkos::Sum<double>>(
         "fracta::cell_bulk_forces", plan, CellBulkForces{nodes, elements, stiffness, false});
   } else {
+    const CellBulkForces kernel{nodes, elements, stiffness, true};
     Kokkos::parallel_reduce(
-        "fracta::cell_bulk_forces", Kokkos::RangePolicy<ExecSpace>(0, elements.count),
-        CellBulkForces{nodes, elements, stiffness, true}, Kokkos::Sum<double>(released));
+        "fracta::cell_bulk_forces", Kokkos::RangePolicy<ExecSpace>(0, count),
+        KOKKOS_LAMBDA(const int k, double& sum) { kernel.cell(converted(k), sum); },
+        Kokkos::Sum<double>(released));
   }
   return released;
 }

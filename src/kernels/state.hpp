@@ -296,6 +296,10 @@ struct Elements {
   // The chunks of every mesh element for the cell term's scatter (kernels/scatter.hpp; located
   // in no list: the kernel skips what is not an intact converted cell). Empty with the view above.
   ScatterPlan cell_scatter;
+  // Converted cells in each chunk of cell_scatter (count_cell_chunks, cell_forces.hpp): the
+  // kernel skips a chunk with none. Empty with cell_scatter's chunks (and on GPUs, where the
+  // kernel runs over the converted list).
+  View<int*> cell_chunk_cells;
   int count = 0;  // all elements of the mesh
   int active_count = 0;
   int qp_per_element = 1;  // 1 (reduced + hourglass control) or 4 (2x2 Gauss)
