@@ -131,6 +131,31 @@ TEST(AxisymmetricLattice, RadialPlaneWaveFarFromTheAxis) {
               r.c_exact, r.plateau, spreading * r.v_exact);
 }
 
+// A solid cylinder of rings (8 x 8 cells from the axis) moving along its axis at 10 m/s stays a
+// rigid translation, as the elements' (test_axisymmetric.cpp): every velocity within 1e-9 m/s of
+// the initial one, no bond force above 1e-6 N, axial momentum unchanged to round-off.
+TEST(AxisymmetricLattice, RigidTranslationAlongTheAxis) {
+  Case c = test::rectangle_case(8, 8, 0.5e-3, 200e9, 0.3, 7800.0, Formulation::axisymmetric);
+  c.bodies[0].method = BodyMethod::de;
+  c.bodies[0].initial_velocity = {0.0, 10.0};
+  c.sim.end_time = 2e-6;
+  Simulation sim(c);
+  const double momentum = sim.history().momentum_y;
+  test::run_to_end(sim);
+  ASSERT_FALSE(sim.failed()) << sim.failure();
+  EXPECT_GT(sim.steps(), 50);
+  const auto v = Kokkos::create_mirror_view_and_copy(HostSpace(), sim.model().nodes.v);
+  double worst = 0.0;
+  for (size_t n = 0; n < v.extent(0); ++n)
+    worst = std::max({worst, std::fabs(v(n, 0)), std::fabs(v(n, 1) - 10.0)});
+  EXPECT_LT(worst, 1e-9);
+  const auto fn = Kokkos::create_mirror_view_and_copy(HostSpace(), sim.model().bonds.fn);
+  double largest = 0.0;
+  for (size_t b = 0; b < fn.extent(0); ++b) largest = std::max(largest, std::fabs(fn(b)));
+  EXPECT_LT(largest, 1e-6);
+  EXPECT_NEAR(sim.history().momentum_y, momentum, 1e-12 * std::fabs(momentum));
+}
+
 // Energy balance of a solid cylinder of rings breathing about its axis (v_r = alpha r, cells on
 // the axis), no dissipation, 10^5 steps at the full stable bound (dt_safety 1: the lattice's
 // bound with the hoop term, docs/physics.md 1.4): bounded, below 1e-3 of the initial kinetic
