@@ -229,6 +229,64 @@ inline PlaneWaveResult run_plane_wave(Formulation f, BodyMethod method = BodyMet
           hourglass};
 }
 
+// Axial plane wave in a rod of revolution (formulation = "axisymmetric"): radius 2 mm (4 cells of
+// 0.5 mm), 80 mm long, held radially on its mantle (uniaxial strain), a 500 MPa step on its
+// end; the body's method a parameter. Exact: a step at c = sqrt((lambda + 2 mu) / rho) with
+// particle velocity p / (rho c), the same at every radius, no radial motion. Measured: the
+// half-amplitude arrivals on the axis 20 and 50 mm from the loaded end and at the mantle 50 mm
+// from it, the speed between the axis probes, the plateaus 50 mm from the end (from 9 mm
+// behind the front to the end), the largest radial probe velocity.
+struct AxialWaveResult {
+  double speed, axis, mantle, c_exact, v_exact;  // m/s
+  double t_near, t_axis, t_mantle;               // arrivals (s; -1 if none)
+  double largest_radial;                         // m/s
+  int plateau_samples;
+};
+
+inline AxialWaveResult run_axial_wave(BodyMethod method) {
+  const double h = 0.5e-3, E = 232e9, nu = 0.3, rho = 7800.0, p = 500e6;
+  const int nr = 4, nz = 160;
+  Case c = rectangle_case(nr, nz, h, E, nu, rho, Formulation::axisymmetric);
+  c.bodies[0].method = method;
+  const double R = nr * h, L = nz * h;
+  add_pressure(c, segment(0, L, R, L), {0.0, 1.0}, {p, p});
+  add_fixed(c, segment(R, 0, R, L), Boundary::Type::fixed_x);
+  add_probe(c, "z60_axis", 0.0, L - 20e-3);
+  add_probe(c, "z30_axis", 0.0, L - 50e-3);
+  add_probe(c, "z30_mantle", R - h, L - 50e-3);
+  AxialWaveResult r{};
+  r.c_exact = std::sqrt(E * (1 - nu) / (rho * (1 + nu) * (1 - 2 * nu)));
+  r.v_exact = p / (rho * r.c_exact);
+  c.sim.end_time = 0.95 * L / r.c_exact;
+  Simulation sim(c);
+  std::vector<double> t, v1, v2, v3;
+  while (sim.time() < c.sim.end_time * (1 - 1e-12) && !sim.failed()) {
+    sim.step();
+    const auto pr = sim.probe_records();
+    t.push_back(sim.time());
+    v1.push_back(-pr[0].vy);
+    v2.push_back(-pr[1].vy);
+    v3.push_back(-pr[2].vy);
+    for (const auto& q : pr) r.largest_radial = std::max(r.largest_radial, std::fabs(q.vx));
+  }
+  EXPECT_FALSE(sim.failed()) << sim.failure();
+  r.t_near = arrival_time(t, v1, 0.5 * r.v_exact);
+  r.t_axis = arrival_time(t, v2, 0.5 * r.v_exact);
+  r.t_mantle = arrival_time(t, v3, 0.5 * r.v_exact);
+  r.speed = 30e-3 / (r.t_axis - r.t_near);
+  for (size_t i = 0; i < t.size(); ++i)
+    if (t[i] > r.t_axis + 9e-3 / r.c_exact) {
+      r.axis += v2[i];
+      r.mantle += v3[i];
+      ++r.plateau_samples;
+    }
+  if (r.plateau_samples > 0) {
+    r.axis /= r.plateau_samples;
+    r.mantle /= r.plateau_samples;
+  }
+  return r;
+}
+
 // A steel projectile (bilinear J2, 20 x 25 mm) striking a concrete slab (Mohr-Coulomb,
 // 80 x 30 mm) at `speed` (m/s), plane strain, coarse 3.333 mm cells. The slab's and the
 // projectile's methods are parameters (the default is an adaptive slab and an FE projectile).

@@ -83,10 +83,9 @@ struct CellStress {
           r0 += 0.25 * x0[a];
           r += 0.25 * x[a];
         }
-        const double ratio = s.hoop.lambda / s.hoop.p_wave_modulus;
-        const double w =
-            0.5 * ((r / r0) * (r / r0) - 1.0) - hoop_state[kHoopOffset] + ratio * (exx + eyy);
-        const double share = ratio * s.hoop.stress(w, hoop_state[kHoopDamage]);
+        const double w = s.hoop.strain(r, r0, hoop_state[kHoopOffset], exx + eyy);
+        const double share =
+            s.hoop.lambda / s.hoop.p_wave_modulus * s.hoop.stress(w, hoop_state[kHoopDamage]);
         sxx += share;
         syy += share;
       }

@@ -74,8 +74,7 @@ struct CellBulkForces {
         r += 0.25 * (x0[a] + ux[a]);
       }
       depth = kTwoPi * r0;
-      w = 0.5 * ((r / r0) * (r / r0) - 1.0) - elements.cell_hoop(e, kHoopOffset) +
-          s.hoop.lambda / s.hoop.p_wave_modulus * trace;
+      w = s.hoop.strain(r, r0, elements.cell_hoop(e, kHoopOffset), trace);
     }
     if (forces) {
       const double sigma_tt = s.hoop.active() ? hoop_stress(w) : 0.0;

@@ -510,7 +510,7 @@ inline double prestress_converted_bonds(const View<int*>& cells, int count,
           const double r0 = depth / kTwoPi;
           double r = 0.0;
           for (int a = 0; a < 4; ++a) r += 0.25 * nodes.x(el.nodes(e, a), 0);
-          el.cell_hoop(e, kHoopOffset) = 0.5 * ((r / r0) * (r / r0) - 1.0) - ett;
+          el.cell_hoop(e, kHoopOffset) = HoopLaw::green_strain(r, r0) - ett;
           el.cell_hoop(e, kHoopStrain) = szz / s.hoop.p_wave_modulus;
           el.cell_hoop(e, kHoopDamage) = 0.0;
           el.cell_hoop(e, kHoopLargest) = 0.0;

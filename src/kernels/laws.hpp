@@ -376,6 +376,16 @@ struct HoopLaw {
     if (final_w <= onset || largest >= final_w) return 1.0;
     return final_w * (largest - onset) / (largest * (final_w - onset));
   }
+  // The Green-Lagrange hoop strain E_tt = ((r / r0)^2 - 1) / 2 of a ring of radius r, r0 at rest.
+  KOKKOS_INLINE_FUNCTION static double green_strain(const double r, const double r0) {
+    return 0.5 * ((r / r0) * (r / r0) - 1.0);
+  }
+  // w = E_tt - offset + (lambda / M) tr(E_in) of a cell whose discs' mean radius is r (r0 at
+  // rest), with its hoop offset and in-plane trace (both less their offsets at conversion).
+  KOKKOS_INLINE_FUNCTION double strain(const double r, const double r0, const double offset,
+                                       const double in_plane_trace) const {
+    return green_strain(r, r0) - offset + lambda / p_wave_modulus * in_plane_trace;
+  }
   // The hoop stress sigma_tt (Pa) at w with damage d.
   KOKKOS_INLINE_FUNCTION double stress(const double w, const double d) const {
     return p_wave_modulus * w * (w > 0.0 ? 1.0 - d : 1.0);
