@@ -1094,15 +1094,15 @@ void read_case(const Reader& r, Case& c) {
   for (const Reader& e : body_entries) c.bodies.push_back(read_body(e, bodies, materials));
   if (c.bodies.empty()) r.fail("body", "at least one [[body]] is required");
   if (c.sim.formulation == Formulation::axisymmetric) {
-    // Axisymmetric bodies are finite elements or rings of discs (docs/physics.md 1.2,
-    // "Axisymmetric discs"); a rigid body could only translate along the axis
-    // (docs/case-file.md, "formulation").
+    // Axisymmetric bodies are finite elements, rings of discs (docs/physics.md 1.2,
+    // "Axisymmetric discs") or rigid bodies of revolution, which can only translate along the
+    // axis (docs/case-file.md, "formulation").
     for (size_t i = 0; i < c.bodies.size(); ++i) {
       const Body& b = c.bodies[i];
-      if (b.method == BodyMethod::rigid)
-        body_entries[i].fail("method",
-                             "formulation = \"axisymmetric\" takes method = \"fe\", \"de\" "
-                             "or \"adaptive\" (no rigid bodies of revolution yet)");
+      if (b.method == BodyMethod::rigid && b.initial_velocity[0] != 0.0)
+        body_entries[i].fail("initial_velocity",
+                             "a rigid body of revolution (formulation = \"axisymmetric\") moves "
+                             "along the axis only: its x (radial) component must be 0");
       if (shape_bounds(b.shape)[0] < 0.0)
         body_entries[i].fail("shape",
                              "reaches x < 0: in formulation = \"axisymmetric\" x is the radius");

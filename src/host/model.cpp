@@ -268,6 +268,7 @@ void build_rigid_bodies(Model& model) {
     }
     r.vx = c.bodies[b].initial_velocity[0];
     r.vy = c.bodies[b].initial_velocity[1];
+    r.axial_only = c.sim.formulation == Formulation::axisymmetric;
     model.rigid.push_back(r);
   }
   if (!model.rigid.empty()) model.rigid_offset = to_device_rows("rigid_offset", offset);
@@ -953,12 +954,13 @@ Model build_model(const Case& c) {
   el.nodes = to_device_rows("element_nodes", m.element_nodes);
   el.material = to_device_1d<int>("element_material", m.element_material);
   el.body = to_device_1d<int>("element_body", m.element_body);
-  std::vector<int> active, converted, alive(ne, 0);
+  std::vector<int> active, converted, rigid, alive(ne, 0);
   for (int e = 0; e < ne; ++e) {
     if (m.element_method[e] == BodyMethod::de) {
       converted.push_back(e);
     } else if (m.element_method[e] == BodyMethod::rigid) {
       alive[e] = 1;  // no FE forces, but it still joins its nodes (no self-contact)
+      rigid.push_back(e);
     } else {
       active.push_back(e);
       alive[e] = 1;
@@ -967,6 +969,8 @@ Model build_model(const Case& c) {
   el.active_count = static_cast<int>(active.size());
   active.resize(ne, -1);  // capacity of every element: compaction swaps it with a scratch list
   el.active = to_device_1d<int>("element_active", active);
+  el.rigid_count = static_cast<int>(rigid.size());
+  el.rigid = to_device_1d<int>("element_rigid", rigid);
   el.alive = to_device_1d<int>("element_alive", alive);
   el.stress = decltype(el.stress)("fracta::qp_stress", static_cast<size_t>(ne) * qp);
   el.epeq = View<double*>("fracta::qp_epeq", static_cast<size_t>(ne) * qp);

@@ -22,7 +22,8 @@ struct FrameCounts {
 };
 
 // One frame's arrays, in the layout of the output file: node arrays 2 values per node (x, y),
-// element arrays one row per active element in list order (connectivity 4, stress 4: xx, yy,
+// element arrays one row per active element in list order, then one per element of the rigid
+// bodies (zero stress) (connectivity 4, stress 4: xx, yy,
 // zz, xy, averaged over the quadrature points), disc arrays one entry per disc in node order,
 // bond arrays one row per bond slot that is or was active, in slot order. Units SI (m, m/s, Pa).
 struct FrameViews {
@@ -41,7 +42,7 @@ struct FrameViews {
 inline FrameCounts count_frame(const Nodes& nodes, const Elements& elements, const Bonds& bonds) {
   FrameCounts c;
   c.nodes = nodes.count;
-  c.elements = elements.active_count;
+  c.elements = elements.active_count + elements.rigid_count;
   if (!nodes.has_particles()) return c;
   const auto particle = nodes.particle;
   Kokkos::parallel_reduce(
@@ -71,15 +72,17 @@ inline void pack_frame(const Nodes& nodes, const Elements& elements, const Bonds
         });
   }
   {
-    const auto active = elements.active, body = elements.body;
+    const auto active = elements.active, rigid = elements.rigid, body = elements.body;
     const auto connectivity = elements.nodes;
     const auto stress = elements.stress;
     const auto epeq = elements.epeq;
-    const int qp = elements.qp_per_element;
+    const int qp = elements.qp_per_element, active_count = elements.active_count;
     Kokkos::parallel_for(
-        "fracta::frame_elements", Kokkos::RangePolicy<ExecSpace>(0, elements.active_count),
+        "fracta::frame_elements",
+        Kokkos::RangePolicy<ExecSpace>(0, active_count + elements.rigid_count),
         KOKKOS_LAMBDA(const int i) {
-          const int e = active(i);
+          // A rigid body's elements compute no stress: theirs stays zero.
+          const int e = i < active_count ? active(i) : rigid(i - active_count);
           double s[4] = {0, 0, 0, 0}, plastic = 0;
           for (int g = 0; g < qp; ++g) {
             for (int k = 0; k < 4; ++k) s[k] += stress(e * qp + g, k) / qp;

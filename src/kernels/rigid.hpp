@@ -2,7 +2,10 @@
 // range moving as one: after every half kick the nodes' velocities (kicked by their own contact and
 // external forces) are projected on the rigid motion with the same linear and angular momentum,
 // which is Newton-Euler for the body with its lumped mass and inertia; after the drift the
-// nodes are placed exactly at X + R(theta) r0, so the body never deforms.
+// nodes are placed exactly at X + R(theta) r0, so the body never deforms. A rigid body of
+// revolution (formulation = "axisymmetric") can only translate along the axis: its radial
+// velocity and rotation stay zero, and its axial momentum is that of the full revolution
+// (the nodes' masses are rings).
 #pragma once
 #include <cmath>
 
@@ -16,6 +19,7 @@ struct RigidBody {
   double mass = 0, inertia = 0;      // kg, kg m^2 about the centre of mass (lumped nodes)
   double x = 0, y = 0, theta = 0;    // centre of mass (m) and rotation (rad)
   double vx = 0, vy = 0, omega = 0;  // m/s, rad/s
+  bool axial_only = false;           // a body of revolution: moves along the axis (y) only
 };
 
 // Writes the body's rigid velocity field V + omega x (x - X) to its nodes.
@@ -48,9 +52,10 @@ inline void project_rigid(RigidBody& b, const Nodes& nodes) {
         acc.v[2] += m * ((x(n, 0) - cx) * v(n, 1) - (x(n, 1) - cy) * v(n, 0));
       },
       Kokkos::Sum<Sums<3>>(s));
-  b.vx = s.v[0] / b.mass;
+  // A ring's radial forces cancel over the revolution: a body of revolution keeps vx = omega = 0.
+  b.vx = b.axial_only ? 0.0 : s.v[0] / b.mass;
   b.vy = s.v[1] / b.mass;
-  b.omega = s.v[2] / b.inertia;
+  b.omega = b.axial_only ? 0.0 : s.v[2] / b.inertia;
   write_rigid_velocity(b, nodes);
 }
 

@@ -277,6 +277,7 @@ struct Elements {
   View<int*> body;
   View<int*> active;  // active element indices, increasing
   View<int*> alive;   // 1 while the element is an active FE element (per mesh element)
+  View<int*> rigid;   // elements of rigid bodies (no forces; frames show them after the active)
   // Converted cells (the lattice): continuum stress from the discs' motion, for bond failure.
   View<double* [3]> cell_stress;  // Pa: xx, yy, xy (reference frame)
   View<int*> cell_state;          // CellState of the last cell stress (compute_cell_stress)
@@ -302,6 +303,7 @@ struct Elements {
   View<int*> cell_chunk_cells;
   int count = 0;  // all elements of the mesh
   int active_count = 0;
+  int rigid_count = 0;
   int qp_per_element = 1;  // 1 (reduced + hourglass control) or 4 (2x2 Gauss)
   // Per quadrature point.
   ColumnView<double* [4]> stress;  // Cauchy stress (Pa): xx, yy, zz, xy

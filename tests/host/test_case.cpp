@@ -364,7 +364,7 @@ const BadCase kBadCases[] = {
     {"node_perturbation_large.toml", 17, "body['pane'].node_perturbation", "must be <= 0.25"},
     {"hjc_plane_stress.toml", 9, "material['concrete'].model", "needs simulation.formulation"},
     {"axisymmetric_thickness.toml", 5, "simulation.thickness", "full revolution"},
-    {"axisymmetric_rigid_body.toml", 16, "body['rod'].method", "no rigid bodies of revolution"},
+    {"axisymmetric_rigid_body.toml", 19, "body['rod'].initial_velocity", "along the axis only"},
     {"axisymmetric_negative_radius.toml", 17, "body['rod'].shape", "x is the radius"},
     {"hjc_soft_lock.toml", 12, "material['concrete'].hjc.K1",
      "must be at least the slope of the crush line"},
