@@ -26,8 +26,8 @@ lines=$(wc -l <README.md)
 commands=$(awk '/^## Quick start/{q=1; next} q && /^```/{if (f) exit; f=1; next} q && f && NF' README.md)
 count=$(printf '%s\n' "$commands" | grep -c .)
 [ "$count" -eq 2 ] || fail "README.md's Quick start block has $count commands (exactly 2)"
-printf '%s\n' "$commands" | head -1 | grep -q 'cases/penetration.toml' ||
-  fail "the first Quick start command does not run the main job (cases/penetration.toml)"
+printf '%s\n' "$commands" | head -1 | grep -q 'cases/perforation.toml' ||
+  fail "the first Quick start command does not run the main job (cases/perforation.toml)"
 printf '%s\n' "$commands" | tail -1 | grep -q 'ctest' ||
   fail "the second Quick start command does not run the test suite (ctest)"
 

@@ -7,7 +7,7 @@
 #     parser (toml++, which nvcc's front end rejects) is compiled by g++;
 #  3. the test suite on the GPU (the device path's tolerances, as CI runs them on the CPU);
 #  4. bench/penetration at levels 1, 4 and 8 on the GPU and on the CPU (all cores);
-#  5. the main job to 20 us on both, and the largest distance between their node positions;
+#  5. the paper's penetration scene to 20 us on both, and the largest distance between their node positions;
 # then prints one table. Without a GPU (or with FRACTA_DEVICE_RUN_BUILD_ONLY=1) it stops after
 # step 2: that much is checked on machines without one.
 #
@@ -121,7 +121,7 @@ for level in 1 4 8; do
     --json "$out/cpu_$level.json" >/dev/null
 done
 
-# --- 5. The main job on both, frames compared --------------------------------------------------
+# --- 5. The paper's penetration scene on both, frames compared -----------------------------------
 for side in gpu cpu; do
   exe=$build/fracta
   [ "$side" = cpu ] && exe=$repo/build/fracta
@@ -151,7 +151,7 @@ with h5py.File(f"{out}/main_gpu.h5") as a, h5py.File(f"{out}/main_cpu.h5") as b:
     xb = b[f"frames/{n - 1}/node_position"][:]
     t = a[f"frames/{n - 1}/time"][()]
     d = float(np.max(np.linalg.norm(xa - xb, axis=1)))
-    print(f"main job at t = {float(np.ravel(t)[0]) * 1e6:.1f} us: largest GPU-CPU node distance"
+    print(f"penetration scene at t = {float(np.ravel(t)[0]) * 1e6:.1f} us: largest GPU-CPU node distance"
           f" {d:.3e} m")
 EOF
 [ "$suite" = passed ]

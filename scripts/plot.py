@@ -282,6 +282,18 @@ def draw_frame(ax, fr, cmap, norm, bonds):
     return mappables
 
 
+def mirrored(fr):
+    """The frame reflected about the axis x = 0 (the other half of an axisymmetric scene)."""
+    m = dict(fr)
+    flip = np.array([-1.0, 1.0])
+    m["pos"] = fr["pos"] * flip
+    m["disc_xy"] = fr["disc_xy"] * flip if fr["disc_r"].size else fr["disc_xy"]
+    m["bonds"] = fr["bonds"] * flip
+    if fr["conn"].shape[0]:
+        m["conn"] = fr["conn"][:, ::-1]  # keep the polygons counter-clockwise
+    return m
+
+
 def bounds(fr):
     """(xmin, xmax, ymin, ymax) of everything drawn, discs with their radii."""
     boxes = []
@@ -296,8 +308,9 @@ def bounds(fr):
     return lo[0], hi[0], lo[1], hi[1]
 
 
-def plot_field(f, out_dir, title, ks, field, bonds="auto"):
-    """Frame(s) `ks` coloured by `field`, one panel per frame with one shared colour scale."""
+def plot_field(f, out_dir, title, ks, field, bonds="auto", mirror=False, ylim=None):
+    """Frame(s) `ks` coloured by `field`, one panel per frame with one shared colour scale;
+    `mirror`: each drawn with its reflection about the axis x = 0; `ylim`: (lo, hi) in mm."""
     frames = [load_frame(f, k, field) for k in ks]
     values = [v for fr in frames for v in (fr["element_values"], fr["disc_values"])
               if v is not None and v.size]
@@ -323,6 +336,10 @@ def plot_field(f, out_dir, title, ks, field, bonds="auto"):
     box = [bounds(fr) for fr in frames]
     x0, x1 = min(b[0] for b in box), max(b[1] for b in box)
     y0, y1 = min(b[2] for b in box), max(b[3] for b in box)
+    if mirror:
+        x0, x1 = -max(abs(x0), abs(x1)), max(abs(x0), abs(x1))
+    if ylim:
+        y0, y1 = ylim
     pad = 0.02 * max(x1 - x0, y1 - y0)
     x0, x1, y0, y1 = x0 - pad, x1 + pad, y0 - pad, y1 + pad
     aspect = (y1 - y0) / max(x1 - x0, 1e-12)
@@ -334,6 +351,9 @@ def plot_field(f, out_dir, title, ks, field, bonds="auto"):
     mappable = None
     for ax, fr in zip(axes.flat, frames):
         drawn = draw_frame(ax, fr, cmap, norm, bonds)
+        if mirror:
+            draw_frame(ax, mirrored(fr), cmap, norm, bonds)
+            ax.axvline(0.0, color=(0, 0, 0, 0.3), linewidth=0.5, linestyle="--", zorder=5)
         mappable = mappable or (drawn[0] if drawn else None)
         ax.set_xlim(x0, x1)
         ax.set_ylim(y0, y1)
@@ -385,6 +405,16 @@ def frame_list(text):
     return ks
 
 
+def float_pair(text):
+    try:
+        lo, hi = (float(v) for v in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected two numbers like -300,200, got {text!r}")
+    if not lo < hi:
+        raise argparse.ArgumentTypeError(f"expected LO < HI, got {text!r}")
+    return lo, hi
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("file", help="fracta output file (.h5)")
@@ -398,6 +428,11 @@ def main(argv=None):
                         help="draw every bond (active grey, broken red); --no-bonds: none. "
                              f"Default: every bond below {MAX_AUTO_BONDS} bonds, else only "
                              "the broken ones")
+    parser.add_argument("--mirror", action="store_true",
+                        help="draw each frame with its reflection about the axis x = 0 (a "
+                             "meridian section of an axisymmetric scene)")
+    parser.add_argument("--ylim", type=float_pair, metavar="LO,HI",
+                        help="the y range drawn, in mm (default: everything)")
     args = parser.parse_args(argv)
     out_dir = args.out_dir or os.path.dirname(os.path.abspath(args.file))
     os.makedirs(out_dir, exist_ok=True)
@@ -406,7 +441,8 @@ def main(argv=None):
         if args.frame is not None or args.frames:
             ks = ([args.frame] if args.frame is not None else []) + (args.frames or [])
             bonds = {None: "auto", True: "all", False: "none"}[args.bonds]
-            plot_field(f, out_dir, title, ks, args.field, bonds)
+            ylim = args.ylim  # mm, as the frames are drawn
+            plot_field(f, out_dir, title, ks, args.field, bonds, args.mirror, ylim)
             return
         plot_energy(f, out_dir, title)
         plot_probes(f, out_dir, title)
