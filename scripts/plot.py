@@ -287,10 +287,8 @@ def mirrored(fr):
     m = dict(fr)
     flip = np.array([-1.0, 1.0])
     m["pos"] = fr["pos"] * flip
-    m["disc_xy"] = fr["disc_xy"] * flip if fr["disc_r"].size else fr["disc_xy"]
+    m["disc_xy"] = fr["disc_xy"] * flip
     m["bonds"] = fr["bonds"] * flip
-    if fr["conn"].shape[0]:
-        m["conn"] = fr["conn"][:, ::-1]  # keep the polygons counter-clockwise
     return m
 
 

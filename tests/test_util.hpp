@@ -346,6 +346,93 @@ inline double run_to_end(Simulation& sim, int every = 1) {
   return worst;
 }
 
+// Lame's thick-walled steel cylinder (inner radius a = 10 mm, outer b = 20 mm; a slice of two
+// 0.5 mm rows held in y on its faces) under an internal pressure of 100 MPa that rises over
+// 100 us, many periods of the breathing mode (about 6 us), and then holds for 200 us; probes
+// "inner" and "outer" on the faces. The exact answer with eps_zz = 0 along the axis
+// (Timoshenko & Goodier, Theory of Elasticity, 3rd ed., Sec. 28):
+// u(r) = (1 + nu) / E k ((1 - 2 nu) r + b^2 / r), sigma_tt(r) = k (1 + b^2 / r^2),
+// k = p a^2 / (b^2 - a^2).
+struct LameCylinder {
+  double a = 10e-3, b = 20e-3, h = 0.5e-3, E = 200e9, nu = 0.3, rho = 7800.0, p = 100e6;
+  double ramp = 100e-6, hold = 200e-6;
+  int rows = 2;
+
+  Case make_case(BodyMethod method) const {
+    Case c = rectangle_case(20, rows, h, E, nu, rho, Formulation::axisymmetric);
+    c.bodies[0].method = method;
+    c.bodies[0].shape.x = a;
+    const double H = rows * h;
+    add_pressure(c, segment(a, 0, a, H), {0.0, ramp, 1.0}, {0.0, p, p});
+    add_fixed(c, segment(a, 0, b, 0), Boundary::Type::fixed_y);
+    add_fixed(c, segment(a, H, b, H), Boundary::Type::fixed_y);
+    add_probe(c, "inner", a, 0.0);
+    add_probe(c, "outer", b, 0.0);
+    c.sim.end_time = ramp + hold;
+    return c;
+  }
+  double k() const { return p * a * a / (b * b - a * a); }
+  double u(double r) const { return (1 + nu) / E * k() * ((1 - 2 * nu) * r + b * b / r); }
+  double hoop_stress(double r) const { return k() * (1 + b * b / (r * r)); }
+};
+
+// Sets the case's end time to `steps` of its first time step (a run of about that many steps).
+inline void end_after_steps(Case& c, long steps) {
+  Simulation first(c);
+  first.step();
+  c.sim.end_time = steps * first.time();
+}
+
+// A solid steel cylinder (8 x 8 cells of h) touching the axis, free, set breathing by
+// v_r = alpha r (10 m/s at its mantle): axisymmetric, of `method`.
+inline Case breathing_cylinder(double h, BodyMethod method) {
+  Case c = rectangle_case(8, 8, h, 200e9, 0.3, 7800.0, Formulation::axisymmetric);
+  c.bodies[0].method = method;
+  c.bodies[0].initial_velocity_gradient = {Vec2{10.0 / (8 * h), 0.0}, Vec2{0.0, 0.0}};
+  return c;
+}
+
+// The worst |energy error| of a run to its end, sampled every 50 steps, in its first three
+// quarters (early) and its last (late): a bounded balance has late no worse than early.
+struct EnergyWindows {
+  double early = 0.0, late = 0.0;
+  long steps = 0;
+  HistoryRecord end{};
+  std::string failure;  // empty unless the run failed
+};
+inline EnergyWindows run_energy_windows(const Case& c) {
+  Simulation sim(c);
+  EnergyWindows r;
+  while (sim.time() < c.sim.end_time * (1 - 1e-12) && !sim.failed()) {
+    sim.step();
+    if (sim.steps() % 50) continue;
+    double& worst = sim.time() < 0.75 * c.sim.end_time ? r.early : r.late;
+    worst = std::max(worst, std::fabs(sim.history().energy.error));
+  }
+  r.steps = sim.steps();
+  r.end = sim.history();
+  if (sim.failed()) r.failure = sim.failure().empty() ? "failed" : sim.failure();
+  return r;
+}
+
+// The smallest x of any node: an axisymmetric run keeps every node at x >= 0.
+inline double leftmost_node_x(const Simulation& sim) {
+  const auto x = Kokkos::create_mirror_view_and_copy(HostSpace(), sim.model().nodes.x);
+  double leftmost = x.extent(0) ? x(0, 0) : 0.0;
+  for (size_t n = 0; n < x.extent(0); ++n) leftmost = std::min(leftmost, x(n, 0));
+  return leftmost;
+}
+
+// A Mohr-Coulomb concrete (cohesion 20 MPa, friction 30 degrees, tensile strength 10 MPa) whose
+// elements convert at a plastic strain of 1e-4: a yield front converts every element it sweeps.
+inline void make_quickly_converting_concrete(Material& m) {
+  m.model = MaterialModel::mohr_coulomb;
+  m.cohesion = 20e6;
+  m.friction_angle = 30.0 * M_PI / 180.0;
+  m.tensile_strength = 10e6;
+  m.conversion_strain = 1e-4;
+}
+
 // Two runs of the same input agree to the bit on the host path: the chunk-coloured scatter and
 // the fixed reduction trees sum in one order. The device path (FRACTA_DEVICE_PATH: GPUs, and CPU
 // builds with -DFRACTA_DEVICE_PATH=ON) adds to nodes atomically, in an order that changes from

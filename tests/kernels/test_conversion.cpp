@@ -377,12 +377,7 @@ TEST(Conversion, EverythingConvertsAndBalanceCloses) {
   strip.shape.width = 4 * h;
   strip.shape.height = ny * h;
   c.bodies[0].regions.push_back(strip);
-  Material& m = c.materials[0];
-  m.model = MaterialModel::mohr_coulomb;
-  m.cohesion = 20e6;
-  m.friction_angle = 30.0 * M_PI / 180.0;
-  m.tensile_strength = 10e6;
-  m.conversion_strain = 1e-4;
+  test::make_quickly_converting_concrete(c.materials[0]);
   test::add_pressure(c, test::segment(0, 0, 0, ny * h), {0.0, 4e-6, 4e-6}, {400e6, 400e6, 0.0});
   c.sim.end_time = 30e-6;
   Simulation sim(c);

@@ -21,10 +21,8 @@ double largest_stress(Simulation& sim) {
   return worst;
 }
 
-// Lame's thick-walled cylinder, inner radius a, outer b, internal pressure p, plane strain
-// along the axis (eps_zz = 0): u(r) = (1 + nu) / E p a^2 / (b^2 - a^2) ((1 - 2 nu) r + b^2 / r),
-// sigma_tt(r) = p a^2 / (b^2 - a^2) (1 + b^2 / r^2) (Timoshenko & Goodier, Theory of
-// Elasticity, 3rd ed., Sec. 28).
+// Lame's thick-walled cylinder in finite elements (test::LameCylinder: the set-up and the exact
+// answer, Timoshenko & Goodier, Theory of Elasticity, 3rd ed., Sec. 28).
 struct LameResult {
   double u_inner, u_outer, hoop_inner;  // time averages over the hold (m, m, Pa)
   double u_inner_exact, u_outer_exact, hoop_inner_exact;
@@ -32,22 +30,11 @@ struct LameResult {
 };
 
 LameResult run_lame(Integration integration) {
-  const double a = 10e-3, b = 20e-3, h = 0.5e-3, E = 200e9, nu = 0.3, rho = 7800.0, p = 100e6;
-  const int rows = 2;
-  Case c = test::rectangle_case(20, rows, h, E, nu, rho, Formulation::axisymmetric);
+  // The ramp leaves a free vibration of a few percent of the static value; averaged over the
+  // hold it is well under 0.1 %.
+  const test::LameCylinder lame;
+  Case c = lame.make_case(BodyMethod::fe);
   c.sim.integration = integration;
-  c.bodies[0].shape.x = a;
-  const double H = rows * h;
-  // The pressure rises over 100 us, many periods of the breathing mode (about 6 us), and then
-  // holds; the displacements are averaged over the 200 us after, so the free vibration the
-  // ramp leaves (a few percent of the static value) averages out to well under 0.1 %.
-  const double ramp = 100e-6, hold = 200e-6;
-  test::add_pressure(c, test::segment(a, 0, a, H), {0.0, ramp, 1.0}, {0.0, p, p});
-  test::add_fixed(c, test::segment(a, 0, b, 0), Boundary::Type::fixed_y);
-  test::add_fixed(c, test::segment(a, H, b, H), Boundary::Type::fixed_y);
-  test::add_probe(c, "inner", a, 0.0);
-  test::add_probe(c, "outer", b, 0.0);
-  c.sim.end_time = ramp + hold;
   Simulation sim(c);
   const int inner_element = 0;  // the first element of the bottom row, centre at a + h / 2
   double u_in = 0, u_out = 0, hoop = 0, worst = 0;
@@ -55,7 +42,7 @@ LameResult run_lame(Integration integration) {
   while (sim.time() < c.sim.end_time * (1 - 1e-12) && !sim.failed()) {
     sim.step();
     worst = std::max(worst, sim.history().energy.error);
-    if (sim.time() < ramp) continue;
+    if (sim.time() < lame.ramp) continue;
     const auto pr = sim.probe_records();
     u_in += pr[0].ux;
     u_out += pr[1].ux;
@@ -65,12 +52,8 @@ LameResult run_lame(Integration integration) {
     ++samples;
   }
   EXPECT_FALSE(sim.failed());
-  const double k = p * a * a / (b * b - a * a);
-  auto u = [&](double r) { return (1 + nu) / E * k * ((1 - 2 * nu) * r + b * b / r); };
-  const double r_centre = a + 0.5 * h;
-  return {u_in / samples, u_out / samples,
-          hoop / samples, u(a),
-          u(b),           k * (1 + b * b / (r_centre * r_centre)),
+  return {u_in / samples, u_out / samples, hoop / samples,
+          lame.u(lame.a), lame.u(lame.b),  lame.hoop_stress(lame.a + 0.5 * lame.h),
           worst};
 }
 
@@ -160,10 +143,8 @@ TEST(Axisymmetric, RigidTranslationAlongTheAxis) {
 // dt_safety 0.85: the balance within the 0.5 % of the energy tests (test_energy.cpp); the
 // bulk viscosity's staggered work is the O(dt^2) part there (1.4e-3 at 0.85, 9e-5 at 0.21).
 TEST(Axisymmetric, EnergyBalanceOverHundredThousandSteps) {
-  const double h = 0.5e-3;
-  auto breathing = [&](bool dissipation, double safety) {
-    Case c = test::rectangle_case(8, 8, h, 200e9, 0.3, 7800.0, Formulation::axisymmetric);
-    c.bodies[0].initial_velocity_gradient = {Vec2{10.0 / (8 * h), 0.0}, Vec2{0.0, 0.0}};
+  auto breathing = [](bool dissipation, double safety) {
+    Case c = test::breathing_cylinder(0.5e-3, BodyMethod::fe);
     c.sim.dt_safety = safety;
     if (!dissipation) {
       c.sim.bulk_viscosity_linear = c.sim.bulk_viscosity_quadratic = 0.0;
@@ -173,32 +154,20 @@ TEST(Axisymmetric, EnergyBalanceOverHundredThousandSteps) {
   };
   {
     Case c = breathing(false, 1.0);
-    Simulation first(c);
-    first.step();
-    c.sim.end_time = 20000 * first.time();
-    Simulation sim(c);
-    double early = 0.0, late = 0.0;
-    while (sim.time() < c.sim.end_time * (1 - 1e-12) && !sim.failed()) {
-      sim.step();
-      if (sim.steps() % 50) continue;
-      const double e = std::fabs(sim.history().energy.error);
-      (sim.time() < 0.75 * c.sim.end_time ? early : late) =
-          std::max(sim.time() < 0.75 * c.sim.end_time ? early : late, e);
-    }
-    ASSERT_FALSE(sim.failed());
-    EXPECT_GE(sim.steps(), 19000);
-    EXPECT_LT(std::max(early, late), 2e-4);
-    EXPECT_LE(late, 1.5 * early);
+    test::end_after_steps(c, 20000);
+    const test::EnergyWindows r = test::run_energy_windows(c);
+    ASSERT_TRUE(r.failure.empty()) << r.failure;
+    EXPECT_GE(r.steps, 19000);
+    EXPECT_LT(std::max(r.early, r.late), 2e-4);
+    EXPECT_LE(r.late, 1.5 * r.early);
     std::printf(
         "breathing cylinder, conservative, dt_safety 1: %ld steps, worst error %.3g "
         "(first 3/4 %.3g, last 1/4 %.3g)\n",
-        sim.steps(), std::max(early, late), early, late);
+        r.steps, std::max(r.early, r.late), r.early, r.late);
   }
   {
     Case c = breathing(true, 0.85);
-    Simulation first(c);
-    first.step();
-    c.sim.end_time = 100000 * first.time();
+    test::end_after_steps(c, 100000);
     Simulation sim(c);
     const double worst = test::run_to_end(sim, 100);
     ASSERT_FALSE(sim.failed());

@@ -21,33 +21,23 @@ namespace {
 // so it carries the elements' discretisation error only: the displacements at both faces,
 // averaged over the hold, within the same 1 % as the elements'.
 TEST(AxisymmetricLattice, LameCylinderUnderInternalPressure) {
-  const double a = 10e-3, b = 20e-3, h = 0.5e-3, E = 200e9, nu = 0.3, rho = 7800.0, p = 100e6;
-  const int rows = 2;
-  Case c = test::rectangle_case(20, rows, h, E, nu, rho, Formulation::axisymmetric);
-  c.bodies[0].method = BodyMethod::de;
-  c.bodies[0].shape.x = a;
-  const double H = rows * h, ramp = 100e-6, hold = 200e-6;
-  test::add_pressure(c, test::segment(a, 0, a, H), {0.0, ramp, 1.0}, {0.0, p, p});
-  test::add_fixed(c, test::segment(a, 0, b, 0), Boundary::Type::fixed_y);
-  test::add_fixed(c, test::segment(a, H, b, H), Boundary::Type::fixed_y);
-  test::add_probe(c, "inner", a, 0.0);
-  test::add_probe(c, "outer", b, 0.0);
-  c.sim.end_time = ramp + hold;
+  const test::LameCylinder lame;
+  const Case c = lame.make_case(BodyMethod::de);
   Simulation sim(c);
   double u_in = 0, u_out = 0, worst = 0;
   int samples = 0;
   while (sim.time() < c.sim.end_time * (1 - 1e-12) && !sim.failed()) {
     sim.step();
     if (sim.steps() % 10 == 0) worst = std::max(worst, sim.history().energy.error);
-    if (sim.time() < ramp) continue;
+    if (sim.time() < lame.ramp) continue;
     const auto pr = sim.probe_records();
     u_in += pr[0].ux;
     u_out += pr[1].ux;
     ++samples;
   }
   ASSERT_FALSE(sim.failed()) << sim.failure();
-  const double k = p * a * a / (b * b - a * a);
-  auto u = [&](double r) { return (1 + nu) / E * k * ((1 - 2 * nu) * r + b * b / r); };
+  auto u = [&](double r) { return lame.u(r); };
+  const double a = lame.a, b = lame.b;
   u_in /= samples;
   u_out /= samples;
   EXPECT_NEAR(u_in, u(a), 0.01 * u(a));
@@ -126,36 +116,22 @@ TEST(AxisymmetricLattice, RigidTranslationAlongTheAxis) {
 // energy, and not growing (the last quarter's worst within 1.5 times the rest's; the error
 // beats with a period of about 9x10^4 steps, so a shorter run would see a rise).
 TEST(AxisymmetricLattice, BreathingCylinderConservesEnergy) {
-  const double h = 0.5e-3;
-  Case c = test::rectangle_case(8, 8, h, 200e9, 0.3, 7800.0, Formulation::axisymmetric);
-  c.bodies[0].method = BodyMethod::de;
-  c.bodies[0].initial_velocity_gradient = {Vec2{10.0 / (8 * h), 0.0}, Vec2{0.0, 0.0}};
+  Case c = test::breathing_cylinder(0.5e-3, BodyMethod::de);
   c.sim.bulk_viscosity_linear = c.sim.bulk_viscosity_quadratic = 0.0;
   c.contact.damping_ratio = 0.0;
   c.sim.dt_safety = 1.0;
-  Simulation first(c);
-  first.step();
-  c.sim.end_time = 100000 * first.time();
-  Simulation sim(c);
-  double early = 0.0, late = 0.0;
-  while (sim.time() < c.sim.end_time * (1 - 1e-12) && !sim.failed()) {
-    sim.step();
-    if (sim.steps() % 50) continue;
-    const double e = std::fabs(sim.history().energy.error);
-    double& worst = sim.time() < 0.75 * c.sim.end_time ? early : late;
-    worst = std::max(worst, e);
-  }
-  ASSERT_FALSE(sim.failed()) << sim.failure();
-  EXPECT_GE(sim.steps(), 95000);
-  EXPECT_LT(std::max(early, late), 1e-3);
-  EXPECT_LE(late, 1.5 * early);
+  test::end_after_steps(c, 100000);
+  const test::EnergyWindows r = test::run_energy_windows(c);
+  ASSERT_TRUE(r.failure.empty()) << r.failure;
+  EXPECT_GE(r.steps, 95000);
+  EXPECT_LT(std::max(r.early, r.late), 1e-3);
+  EXPECT_LE(r.late, 1.5 * r.early);
   // No hoop damage, no dissipation (the hoop term counts it only where a cell is damaged).
-  const HistoryRecord end = sim.history();
-  EXPECT_EQ(end.energy.fracture, 0.0);
+  EXPECT_EQ(r.end.energy.fracture, 0.0);
   std::printf(
       "breathing cylinder of rings: %ld steps, worst error %.3g (first 3/4 %.3g, last "
       "1/4 %.3g)\n",
-      sim.steps(), std::max(early, late), early, late);
+      r.steps, std::max(r.early, r.late), r.early, r.late);
 }
 
 // A prestressed adaptive cylinder (radius 12 mm, 12 x 12 cells from the axis) converts its centre
@@ -365,8 +341,7 @@ TEST(AxisymmetricLattice, RingsThrownAtTheAxisStopThere) {
   while (sim.time() < c.sim.end_time * (1 - 1e-12) && !sim.failed()) {
     sim.step();
     worst = std::max(worst, std::fabs(sim.history().energy.error));
-    auto x = Kokkos::create_mirror_view_and_copy(HostSpace(), sim.model().nodes.x);
-    for (size_t n = 0; n < x.extent(0); ++n) leftmost = std::min(leftmost, x(n, 0));
+    leftmost = std::min(leftmost, test::leftmost_node_x(sim));
   }
   ASSERT_FALSE(sim.failed()) << sim.failure();
   EXPECT_GE(leftmost, 0.0);
@@ -397,12 +372,7 @@ TEST(AxisymmetricLattice, EverythingConvertsAndBalanceCloses) {
   const int nr = 8, nz = 16;
   Case c = test::rectangle_case(nr, nz, h, 92e9, 0.21, 2400.0, Formulation::axisymmetric);
   c.bodies[0].method = BodyMethod::adaptive;
-  Material& m = c.materials[0];
-  m.model = MaterialModel::mohr_coulomb;
-  m.cohesion = 20e6;
-  m.friction_angle = 30.0 * M_PI / 180.0;
-  m.tensile_strength = 10e6;
-  m.conversion_strain = 1e-4;
+  test::make_quickly_converting_concrete(c.materials[0]);
   test::add_pressure(c, test::segment(0, 0, nr * h, 0), {0.0, 4e-6, 4e-6}, {400e6, 400e6, 0.0});
   c.sim.end_time = 30e-6;
   Simulation sim(c);

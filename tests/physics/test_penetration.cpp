@@ -135,10 +135,7 @@ TEST(Penetration, AxisymmetricSceneConservesMassAndEnergy) {
   EXPECT_EQ(end.mass, mass);
   EXPECT_LT(worst, 0.01);
   EXPECT_GT(sim.conversions(), 50);
-  const auto x = Kokkos::create_mirror_view_and_copy(HostSpace(), sim.model().nodes.x);
-  double leftmost = 0.0;
-  for (size_t n = 0; n < x.extent(0); ++n) leftmost = std::min(leftmost, x(n, 0));
-  EXPECT_GE(leftmost, 0.0);
+  EXPECT_GE(test::leftmost_node_x(sim), 0.0);
   const BodyProbeRecord projectile = sim.body_probe_records().at(0);
   EXPECT_GT(projectile.vy, -150.0);  // from -200 m/s
   std::printf(
@@ -162,12 +159,10 @@ TEST(Penetration, PerforationMainJob) {
   ASSERT_FALSE(sim.failed()) << sim.failure();
   EXPECT_EQ(sim.history().mass, mass);
   EXPECT_LT(worst, 0.01);
-  const auto x = Kokkos::create_mirror_view_and_copy(HostSpace(), sim.model().nodes.x);
-  double leftmost = 0.0;
-  for (size_t n = 0; n < x.extent(0); ++n) leftmost = std::min(leftmost, x(n, 0));
-  EXPECT_GE(leftmost, 0.0);
+  EXPECT_GE(test::leftmost_node_x(sim), 0.0);
   const RigidBody& rod = sim.model().rigid.at(0);
   EXPECT_EQ(rod.vx, 0.0);
+  const auto x = Kokkos::create_mirror_view_and_copy(HostSpace(), sim.model().nodes.x);
   // The nose (the rod's lowest node) has passed the slab's rear face (y = 0).
   double nose = 1e9;
   for (int n = rod.node_begin; n < rod.node_end; ++n) nose = std::min(nose, x(n, 1));
