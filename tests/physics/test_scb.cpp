@@ -66,11 +66,14 @@ double rotation_deg(const Simulation& sim, double side) {
 }
 
 // Reference values of the shipped case (README "The paper's scenes"): the crack leaves the
-// notch at 12 us, passes mid-ligament at 18 us and 1 mm below the apex at 32 us (speeds 1190
-// and 463 m/s), rotation 7.33 deg at 160 us. Runs are bitwise the same on any thread count
-// (8 runs on 2 threads and one on 1 gave these figures to every digit). Tolerances: the times
-// within 3 us (three frames of the script); the rotation within 10%, for other compilers'
-// contraction of products, which the fragmenting halves amplify.
+// notch at 12 us, passes mid-ligament at 18 us and 1 mm below the apex at 32 us (speeds 1187
+// and 465 m/s), rotation 7.94 deg at 160 us (7.33 before the stable step counted the contact
+// dampers: a smaller step, the same crack times, a rotation 8% larger). Runs on the host path
+// are bitwise the same on any thread count. The device path's atomic scatter sums in another
+// order on every run, which the fragmenting halves carry on: 40 runs on 2 threads gave the
+// same gauge times and rotations of 7.65-8.11 deg. Tolerances: the times within 3 us (three
+// frames of the script); the rotation within 10%, for that spread and for other compilers'
+// contraction of products.
 TEST(ScbGranite, CrackRunsUpTheAxisAtTheReferenceSpeedsAndTheHalvesRotate) {
   Case c = load_case(std::string(FRACTA_SOURCE_DIR) + "/cases/scb_granite.toml", {});
   Simulation sim(c);
@@ -95,7 +98,7 @@ TEST(ScbGranite, CrackRunsUpTheAxisAtTheReferenceSpeedsAndTheHalvesRotate) {
   EXPECT_NEAR(reached[0], 12e-6, 3e-6);
   EXPECT_NEAR(reached[1], 18e-6, 3e-6);
   EXPECT_NEAR(reached[2], 32e-6, 3e-6);
-  EXPECT_NEAR(rotation, 7.33, 0.10 * 7.33);
+  EXPECT_NEAR(rotation, 7.94, 0.10 * 7.94);
   EXPECT_LT(sim.history().energy.error, 0.01);
 }
 
