@@ -308,10 +308,10 @@ int main(int argc, char** argv) {
         if (count == 0) return;
         const double k = 1.0 / count;
         std::fprintf(stderr,
-                     "per %s step (%ld): %.1f launches (%.1f for, %.1f reduce, %.1f scan), "
-                     "%.1f deep copies\n",
-                     what, count, k * n.launches(), k * n.fors, k * n.reduces, k * n.scans,
-                     k * n.deep_copies);
+                     "per %s step (%ld): %.1f launches (%.1f for, %.1f reduce of which %.1f into "
+                     "slots, %.1f scan), %.1f deep copies; waits for the device: %.1f\n",
+                     what, count, k * n.launches(), k * n.fors, k * n.reduces, k * n.slot_reduces,
+                     k * n.scans, k * n.deep_copies, k * (n.host_reduces() + n.deep_copies));
       };
       per_step("quiet", quiet_counts, quiet_steps);
       per_step("converting", converting_counts, converting_steps);

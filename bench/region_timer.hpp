@@ -17,10 +17,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <cstring>
 #include <map>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "kernels/state.hpp"  // fracta::kSlotLabel
 
 namespace fracta::bench {
 
@@ -82,15 +85,20 @@ class RegionTimer {
 
 // What the host asks of the device, counted through the same callbacks. On a GPU each
 // parallel_reduce into a host value and each deep_copy between host and device makes the host
-// wait for the device (a round trip); parallel_for and scan launches queue without waiting.
+// wait for the device (a round trip); parallel_for and scan launches, and reductions into a slot
+// in device memory (fracta::ResultSlot, labelled with fracta::kSlotLabel), queue without waiting.
 struct LaunchCounts {
   long fors = 0, reduces = 0, scans = 0, deep_copies = 0;
+  long slot_reduces = 0;  // of the reduces, those into a slot
   long launches() const { return fors + reduces + scans; }
+  long host_reduces() const { return reduces - slot_reduces; }
   LaunchCounts operator-(const LaunchCounts& o) const {
-    return {fors - o.fors, reduces - o.reduces, scans - o.scans, deep_copies - o.deep_copies};
+    return {fors - o.fors, reduces - o.reduces, scans - o.scans, deep_copies - o.deep_copies,
+            slot_reduces - o.slot_reduces};
   }
   LaunchCounts& operator+=(const LaunchCounts& o) {
     fors += o.fors, reduces += o.reduces, scans += o.scans, deep_copies += o.deep_copies;
+    slot_reduces += o.slot_reduces;
     return *this;
   }
 };
@@ -110,6 +118,18 @@ class KernelTimer {
     T::set_begin_parallel_scan_callback(&begin_scan);
     T::set_end_parallel_scan_callback(&end);
     T::set_begin_deep_copy_callback(&deep_copy);
+  }
+  static void uninstall() {
+    namespace T = Kokkos::Tools::Experimental;
+    T::set_begin_parallel_for_callback(nullptr);
+    T::set_end_parallel_for_callback(nullptr);
+    T::set_begin_parallel_reduce_callback(nullptr);
+    T::set_end_parallel_reduce_callback(nullptr);
+    T::set_begin_parallel_scan_callback(nullptr);
+    T::set_end_parallel_scan_callback(nullptr);
+    T::set_begin_deep_copy_callback(nullptr);
+    reset();
+    state().open.clear();
   }
   static void reset() { state().totals.clear(); }
   static const std::map<std::string, RegionTotals>& totals() { return state().totals; }
@@ -137,6 +157,8 @@ class KernelTimer {
   }
   static void begin_reduce(const char* name, const uint32_t, uint64_t* id) {
     ++state().counts.reduces;
+    const size_t n = std::strlen(name), k = std::strlen(fracta::kSlotLabel);
+    if (n >= k && std::strcmp(name + n - k, fracta::kSlotLabel) == 0) ++state().counts.slot_reduces;
     begin(name, id);
   }
   static void begin_scan(const char* name, const uint32_t, uint64_t* id) {

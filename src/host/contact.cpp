@@ -243,8 +243,8 @@ void ContactSystem::rebuild(const Nodes& nodes) {
   Kokkos::Profiling::popRegion();
 }
 
-ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, const Topology& topo,
-                                                double dt) {
+ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, const Topology& topo, double dt,
+                                                const ResultSlot<ContactSums>& into) {
   if (!built_) throw std::logic_error("ContactSystem::compute_forces before update");
   Kokkos::Profiling::pushRegion("fracta::contact_forces");
   // What joins each pair, once per list: the force kernel then reads only states.
@@ -269,14 +269,10 @@ ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, const Topolo
     build_contact_gather(discs_, row_offset_, pair_b_, pair_count_, gather_);
     gather_built_ = true;
   }
-  const ContactSums s =
-      contact_forces(nodes, topo, pair_i_, pair_j_, pair_count_, law_, dt, pair_joins_, gather_);
+  const ContactSums s = contact_forces(nodes, topo, pair_i_, pair_j_, pair_count_, law_, dt,
+                                       pair_joins_, gather_, into);
   Kokkos::Profiling::popRegion();
-  ContactStepResult r;
-  r.elastic_energy = s.v[0];
-  r.dissipated = s.v[1];
-  r.touching = static_cast<long>(s.v[2] + 0.5);
-  return r;
+  return contact_step_result(s);
 }
 
 std::vector<std::array<int, 2>> ContactSystem::candidate_pairs_host() const {

@@ -44,6 +44,15 @@ struct ContactStepResult {
   long touching = 0;          // pairs with overlap > 0 that are not joined
 };
 
+// The contact kernel's sums (contact_forces) as a step result.
+inline ContactStepResult contact_step_result(const ContactSums& s) {
+  ContactStepResult r;
+  r.elastic_energy = s.v[0];
+  r.dissipated = s.v[1];
+  r.touching = static_cast<long>(s.v[2] + 0.5);
+  return r;
+}
+
 class ContactSystem {
  public:
   // disc_nodes: the node ids that are contact discs (particles and FE boundary nodes), any
@@ -59,7 +68,10 @@ class ContactSystem {
   // whatever the closing speed: no disc can pass through another between two searches
   // (docs/physics.md 1.4, "Contact motion"). 1e300 when nothing moves.
   double motion_bound() const;
-  ContactStepResult compute_forces(const Nodes& nodes, const Topology& topo, double dt);
+  // into: a slot for the kernel's sums (contact_step_result of them; the launch does not wait,
+  // and the result returned is empty), or none.
+  ContactStepResult compute_forces(const Nodes& nodes, const Topology& topo, double dt,
+                                   const ResultSlot<ContactSums>& into = {});
 
   long candidate_count() const { return pair_count_; }
   long rebuild_count() const { return rebuilds_; }

@@ -52,6 +52,18 @@ struct ContactPhaseSums {
   long touching = 0;
 };
 
+// The sums a step's phases reduce into slots in device memory (ResultSlot), which the host copies
+// once per step (Simulation::settle_step_sums) instead of waiting for each phase.
+struct StepSums {
+  double kick_work_first = 0.0;  // external work of the first half kick (and drift) (J)
+  FeStepSums fe;
+  BondSums bonds;                 // bond_step_result
+  double cell_fracture = 0.0;     // compute_cell_bulk_forces (J)
+  Sums<3> contact;                // contact_step_result (ContactSums)
+  double contact_work = 0.0;      // store_forces_after_and_work (J)
+  double kick_work_second = 0.0;  // external work of the second half kick (J)
+};
+
 struct Ledger {
   StepClock clock;
   StableStep bounds;

@@ -72,29 +72,32 @@ void store_forces_before(const Nodes& nodes, const View<const int*>& discs,
 // their trapezoidal work (J) over the step on the mid-step velocities, with `before` the last
 // evaluation's: dt/2 sum v(n+1/2) . (f(n) + f(n+1)) (+ spin x moment for discs), over the
 // contact discs (increasing: the other nodes' terms are zeros, so the sum is the one over every
-// node).
+// node). With a slot given, the work goes there (the launch does not wait) and 0 is returned.
 double store_forces_after_and_work(const Nodes& nodes, const View<const int*>& discs,
                                    const View<double* [3]>& before, const View<double* [3]>& after,
-                                   double dt) {
+                                   double dt, const ResultSlot<double>& into) {
   double work = 0.0;
   const auto f = nodes.f;
   const auto moment = nodes.moment;
   const auto v = nodes.v;
   const auto spin = nodes.spin;
   const auto particle = nodes.particle;
-  Kokkos::parallel_reduce(
-      "fracta::contact_work", Kokkos::RangePolicy<ExecSpace>(0, discs.extent(0)),
-      KOKKOS_LAMBDA(const int a, double& w) {
-        const int n = discs(a);
-        const double fx = after(n, 0) + f(n, 0), fy = after(n, 1) + f(n, 1);
-        const double m = after(n, 2) + moment(n);
-        after(n, 0) = fx;
-        after(n, 1) = fy;
-        after(n, 2) = m;
-        w += 0.5 * dt * (v(n, 0) * (before(n, 0) + fx) + v(n, 1) * (before(n, 1) + fy));
-        if (particle(n)) w += 0.5 * dt * spin(n) * (before(n, 2) + m);
-      },
-      work);
+  const auto disc_work = KOKKOS_LAMBDA(const int a, double& w) {
+    const int n = discs(a);
+    const double fx = after(n, 0) + f(n, 0), fy = after(n, 1) + f(n, 1);
+    const double m = after(n, 2) + moment(n);
+    after(n, 0) = fx;
+    after(n, 1) = fy;
+    after(n, 2) = m;
+    w += 0.5 * dt * (v(n, 0) * (before(n, 0) + fx) + v(n, 1) * (before(n, 1) + fy));
+    if (particle(n)) w += 0.5 * dt * spin(n) * (before(n, 2) + m);
+  };
+  const auto policy = Kokkos::RangePolicy<ExecSpace>(0, discs.extent(0));
+  if (into.data())
+    Kokkos::parallel_reduce(slot_label("fracta::contact_work"), policy, disc_work,
+                            Kokkos::Sum<double, MemSpace>(into));
+  else
+    Kokkos::parallel_reduce("fracta::contact_work", policy, disc_work, work);
   return work;
 }
 
@@ -203,20 +206,24 @@ void Simulation::step(bool defer_kick) {
   ProfilingRegion region("fracta::step");
   StepClock& clock = ledger_.clock;
   const double dt = clock.dt;
-  kick_drift();
+  // The phases reduce their sums into the step's slots on the device and the host copies them
+  // once, after the kick (settle_step_sums): on a GPU the step waits for the device there, in
+  // the contact search's rebuild check, and where a conversion was flagged, not once per phase.
+  kick_drift(true);
   clock.time += dt;
   apply_loads();
-  const FeStepSums fe = element_forces(dt);
-  const BondStepResult lattice = bond_forces(dt);
+  element_forces(dt, true);
+  bond_forces(dt, true);
   contact_search();
-  const ContactPhaseSums contact = contact_forces(dt);
-  ledger_.add(fe);
-  ledger_.add(lattice);
-  ledger_.add(contact, dt);
-  ledger_.bounds.step = step_bound(fe);
-  // This evaluation's bar forces act over this step's second half kick and the next's first.
-  boundary_forces(0.5 * (dt + next_dt()));
-  kick(defer_kick);
+  contact_forces(dt, true);
+  if (boundaries_act()) {
+    // This evaluation's bar forces act over this step's second half kick and the next's first:
+    // the next step's length, so the step's sums, are needed now.
+    settle_step_sums(dt);
+    boundary_forces(0.5 * (dt + next_dt()));
+  }
+  kick(defer_kick, true);
+  settle_step_sums(dt);
   convert();
   ++clock.steps;
 
@@ -244,7 +251,52 @@ void Simulation::initial_forces() {
   boundary_forces(0.5 * next_dt());  // f(0) acts over the first half kick
 }
 
-void Simulation::kick_drift() {
+bool Simulation::boundaries_act() const {
+  const Model& m = model_;
+  if (m.supports.count > 0) return true;
+  for (const BoundarySet& b : m.boundary_sets)
+    if (b.type == Boundary::Type::bar) return true;
+  return false;
+}
+
+bool Simulation::kick_into_slot(const bool into_slot) const {
+  // Prescribed components and rigid bodies add host work around the kicks: their kicks' work
+  // stays a host value, so that the external work is summed in the same order.
+  return into_slot && model_.rigid.empty() && model_.prescribed.count == 0;
+}
+
+template <class T>
+ResultSlot<T> Simulation::slot(T StepSums::*member, bool& pending) {
+  pending = true;
+  return ResultSlot<T>(&(step_sums_.data()->*member));
+}
+
+void Simulation::settle_step_sums(const double dt) {
+  PendingSums& p = pending_sums_;
+  if (!(p.fe || p.bonds || p.cell || p.contact || p.kick_drift || p.kick)) return;
+  Kokkos::deep_copy(step_sums_host_, step_sums_);  // the step's one wait for the device
+  const StepSums& s = step_sums_host_();
+  // The ledger in the order the phases ran (the same sums as their host values, bit for bit).
+  if (p.kick_drift) ledger_.energy.external += s.kick_work_first;
+  if (p.fe) {
+    ledger_.add(s.fe);
+    if (s.fe.flagged > 0.0) conversion_flagged_ = true;
+  }
+  if (p.bonds) {
+    BondStepResult lattice = bond_step_result(s.bonds);
+    if (p.cell) lattice.fracture_energy += s.cell_fracture;
+    ledger_.add(lattice);
+  }
+  if (p.contact) {
+    const ContactStepResult r = contact_step_result(s.contact);
+    ledger_.add(ContactPhaseSums{s.contact_work, r.elastic_energy, r.touching}, dt);
+  }
+  if (p.fe) ledger_.bounds.step = step_bound(s.fe);
+  if (p.kick) ledger_.energy.external += s.kick_work_second;
+  p = PendingSums();
+}
+
+void Simulation::kick_drift(const bool into_slot) {
   Model& m = model_;
   const double dt = ledger_.clock.dt;
   {
@@ -253,8 +305,11 @@ void Simulation::kick_drift() {
     // V(t + dt/2) and their drift after it (never with a pending kick: kick() does not defer).
     const double t_mid = ledger_.clock.time + 0.5 * dt;
     ledger_.energy.external += prescribed_work(m.nodes, m.prescribed, m.tables, t_mid, dt, true);
-    ledger_.energy.external +=
-        kick_pending_ ? kick_kick_drift(m.nodes, last_dt_, dt) : fracta::kick_drift(m.nodes, dt);
+    const ResultSlot<double> into = kick_into_slot(into_slot)
+                                        ? slot(&StepSums::kick_work_first, pending_sums_.kick_drift)
+                                        : ResultSlot<double>();
+    ledger_.energy.external += kick_pending_ ? kick_kick_drift(m.nodes, last_dt_, dt, true, into)
+                                             : fracta::kick_drift(m.nodes, dt, true, into);
     kick_pending_ = false;
     prescribe(m.nodes, m.prescribed, m.tables, t_mid, dt);
   }
@@ -271,21 +326,24 @@ void Simulation::apply_loads() {
                       m.fe.axisymmetric != 0, ledger_.clock.time);
 }
 
-FeStepSums Simulation::element_forces(double dt) {
+FeStepSums Simulation::element_forces(double dt, const bool into_slot) {
   ProfilingRegion region("fracta::fe_forces");
   Model& m = model_;
   FeParams p = m.fe;
   p.dt = dt;
+  const ResultSlot<FeStepSums> into =
+      into_slot ? slot(&StepSums::fe, pending_sums_.fe) : ResultSlot<FeStepSums>();
   const FeStepSums fe =
       m.has_adaptive
           ? compute_fe_forces(m.nodes, m.elements, m.materials, p, conversion_criterion(m),
-                              conversion_pending_, conversion_candidates_, m.tension_rates)
-          : compute_fe_forces(m.nodes, m.elements, m.materials, p, {}, {}, {}, m.tension_rates);
+                              conversion_pending_, conversion_candidates_, m.tension_rates, into)
+          : compute_fe_forces(m.nodes, m.elements, m.materials, p, {}, {}, {}, m.tension_rates,
+                              into);
   if (fe.flagged > 0.0) conversion_flagged_ = true;
   return fe;
 }
 
-BondStepResult Simulation::bond_forces(double dt) {
+BondStepResult Simulation::bond_forces(double dt, const bool into_slot) {
   Model& m = model_;
   filter_velocities(m.nodes);  // every step, also before the first conversion (RateLaw)
   // Bonds work once a cell has converted.
@@ -293,11 +351,14 @@ BondStepResult Simulation::bond_forces(double dt) {
   ProfilingRegion region("fracta::bond_forces");
   compute_cell_stress(m.converted, m.converted_count, m.lattice_stiffness, m.bond_laws, m.elements,
                       m.nodes);
-  BondStepResult r = compute_bond_forces(m.nodes, m.elements, m.bonds, m.bond_laws, dt);
+  BondStepResult r = compute_bond_forces(
+      m.nodes, m.elements, m.bonds, m.bond_laws, dt, BondBatches::runs,
+      into_slot ? slot(&StepSums::bonds, pending_sums_.bonds) : ResultSlot<BondSums>());
   // After the bonds: a cell one of them cracked this step gives up its volumetric term now.
   if (cell_term_live())
-    r.fracture_energy += compute_cell_bulk_forces(m.nodes, m.elements, m.lattice_stiffness,
-                                                  m.converted, m.converted_count);
+    r.fracture_energy += compute_cell_bulk_forces(
+        m.nodes, m.elements, m.lattice_stiffness, m.converted, m.converted_count,
+        into_slot ? slot(&StepSums::cell_fracture, pending_sums_.cell) : ResultSlot<double>());
   return r;
 }
 
@@ -335,18 +396,21 @@ double Simulation::step_bound(const FeStepSums& fe) const {
   return stable > 0.0 && b.motion < stable ? b.motion : stable;
 }
 
-ContactPhaseSums Simulation::contact_forces(double dt) {
+ContactPhaseSums Simulation::contact_forces(double dt, const bool into_slot) {
   Model& m = model_;
   if (!contact_possible(m)) return {0.0, ledger_.energy.contact_elastic, ledger_.counts.touching};
   ProfilingRegion region("fracta::contact_forces");
   // The contact's own forces are the change it makes to the accumulators (fx, fy, moment).
   const auto discs = m.contacts->discs();
   store_forces_before(m.nodes, discs, contact_force_);
-  const ContactStepResult r = m.contacts->compute_forces(m.nodes, m.topology, dt);
+  const ContactStepResult r = m.contacts->compute_forces(
+      m.nodes, m.topology, dt,
+      into_slot ? slot(&StepSums::contact, pending_sums_.contact) : ResultSlot<ContactSums>());
   // Work of the contact forces over the step by the trapezoidal rule with v(n+1/2), the rule
   // under which central differences balance energy (as the external work).
-  const double work =
-      store_forces_after_and_work(m.nodes, discs, contact_force_prev_, contact_force_, dt);
+  const double work = store_forces_after_and_work(
+      m.nodes, discs, contact_force_prev_, contact_force_, dt,
+      into_slot ? slot(&StepSums::contact_work, pending_sums_.contact) : ResultSlot<double>());
   std::swap(contact_force_, contact_force_prev_);
   return {work, r.elastic_energy, r.touching};
 }
@@ -368,7 +432,7 @@ void Simulation::boundary_forces(const double kick_interval) {
   ledger_.energy.external += update_supports(m.nodes, m.supports, kick_interval);
 }
 
-void Simulation::kick(bool defer) {
+void Simulation::kick(bool defer, const bool into_slot) {
   Model& m = model_;
   last_dt_ = ledger_.clock.dt;
   if (defer && m.rigid.empty() && m.prescribed.count == 0) {
@@ -377,7 +441,10 @@ void Simulation::kick(bool defer) {
     ProfilingRegion integrate("fracta::integrate");
     const double t = ledger_.clock.time;
     ledger_.energy.external += prescribed_work(m.nodes, m.prescribed, m.tables, t, last_dt_, false);
-    ledger_.energy.external += fracta::kick(m.nodes, last_dt_);
+    ledger_.energy.external += fracta::kick(
+        m.nodes, last_dt_, true,
+        kick_into_slot(into_slot) ? slot(&StepSums::kick_work_second, pending_sums_.kick)
+                                  : ResultSlot<double>());
     prescribe(m.nodes, m.prescribed, m.tables, t, 0.0);
   }
   for (RigidBody& b : m.rigid) project_rigid(b, m.nodes);

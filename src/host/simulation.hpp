@@ -77,23 +77,37 @@ class Simulation {
   // The phases of a step, in the order step() runs them (docs/physics.md 2). Each force phase
   // adds into the node accumulators and returns its sums; a phase the scene cannot need (bonds
   // before any conversion, contact within one intact body) does nothing.
-  void kick_drift();                      // v(n+1/2), x(n+1); rigid bodies drift
-  void apply_loads();                     // f_ext at the new time
-  FeStepSums element_forces(double dt);   // flags elements that meet their criterion
-  BondStepResult bond_forces(double dt);  // cell stresses, bond laws, failure
-  void contact_search();                  // candidate pairs (Verlet list)
+  // into_slot: the phase reduces its sums into the step's slots (step_sums_), which
+  // settle_step_sums hands the ledger, and returns empty sums; otherwise it returns them (the
+  // initial evaluation, whose caller adds them itself).
+  void kick_drift(bool into_slot);  // v(n+1/2), x(n+1); rigid bodies drift
+  void apply_loads();               // f_ext at the new time
+  FeStepSums element_forces(double dt, bool into_slot = false);   // flags elements to convert
+  BondStepResult bond_forces(double dt, bool into_slot = false);  // cell stresses, bond laws
+  void contact_search();                                          // candidate pairs (Verlet list)
   // Whether a converted cell carries the lattice's volumetric term (cell_forces.hpp): the force
   // kernel runs only then. Counted again whenever the converted list changed length.
   bool cell_term_live();
   // The step's bound (s): the elements' and the lattice's stable bounds and the contact discs'
   // motion bound; negative when an element inverted.
   double step_bound(const FeStepSums& fe) const;
-  ContactPhaseSums contact_forces(double dt);  // disc contact law on the candidates
+  ContactPhaseSums contact_forces(double dt, bool into_slot = false);  // disc contact law
   // Bars push their faces, supports hold or let go (kernels/boundaries.hpp), with the forces of
   // this evaluation, which act over the kicks of `kick_interval` (s) until the next one.
   void boundary_forces(double kick_interval);
-  void kick(bool defer);  // v(n+1), or left pending (defer)
-  void convert();         // cells that met their criterion become discs
+  void kick(bool defer, bool into_slot = false);  // v(n+1), or left pending (defer)
+  // Whether bars or supports act: they need the next step's length before the kick.
+  bool boundaries_act() const;
+  // Whether a kick's external work goes to a slot: not with prescribed components or rigid
+  // bodies, whose host work around the kicks keeps the order of the sum.
+  bool kick_into_slot(bool into_slot) const;
+  // The slot of a member of the step's sums, marked pending.
+  template <class T>
+  ResultSlot<T> slot(T StepSums::*member, bool& pending);
+  // Copies the step's sums to the host (one wait for the device) and adds the pending ones to
+  // the ledger in the order the phases ran; sets the step's bound and the conversion flag.
+  void settle_step_sums(double dt);
+  void convert();  // cells that met their criterion become discs
   // The force phases at dt = 0 (the constructor): f(0) and the first stable bound.
   void initial_forces();
   // The conversion phase of convert(); returns whether cells converted.
@@ -113,6 +127,13 @@ class Simulation {
   FrameData frame_;  // the last frame(), its arrays kept for the next
   FrameBuffers frame_buffers_;
   View<double*[3]> contact_force_, contact_force_prev_;
+  // The step's sums on the device, the host's copy, and which of them a phase left there since
+  // the last copy (settle_step_sums).
+  View<StepSums> step_sums_{"fracta::step_sums"};
+  View<StepSums>::HostMirror step_sums_host_ = Kokkos::create_mirror_view(step_sums_);
+  struct PendingSums {
+    bool kick_drift = false, fe = false, bonds = false, cell = false, contact = false, kick = false;
+  } pending_sums_;
   StableDtWorkspace stable_dt_;    // bond_stable_dt without allocations, per-particle cache
   int cell_term_counted_at_ = -1;  // converted_count when cell_term_live_ was counted
   bool cell_term_live_ = false;

@@ -899,29 +899,49 @@ inline void filter_velocities(const Nodes& nodes) {
 // Bond forces added into nodes.f and nodes.moment. The list is increasing, so the order of
 // every node's sum is the one of the sweep over all slots. Without a usable bonds.scatter (the
 // plan of the list: update_scatter_plan) the forces are added atomically. batches: how the CPU
-// kernel groups the bonds (the default everywhere but in tests).
-inline BondStepResult compute_bond_forces(const Nodes& nodes, const Elements& elements,
-                                          const Bonds& bonds, const View<const BondLaw*>& laws,
-                                          double dt, BondBatches batches = BondBatches::runs) {
+// kernel groups the bonds (the default everywhere but in tests). With a slot given, the sums
+// (fracture energy, plastic work, broken bonds: bond_step_result) go there (ResultSlot: the
+// launch does not wait) and the result returned is empty.
+using BondSums = Sums<3>;
+
+inline BondStepResult bond_step_result(const BondSums& s) {
   BondStepResult r;
-  if (bonds.count == 0) return r;
-  const int count = bond_list_count(bonds);
-  BondForces forces{
-      nodes, elements, bonds, laws, dt, bonds_listed(bonds) ? bonds.used : View<int*>(), true};
-  forces.batches = batches;
-  Sums<3> s;
-  if (bonds.scatter.usable(count)) {
-    forces.atomic = false;
-    s = for_each_chunk<Kokkos::Sum<Sums<3>>>("fracta::bond_forces", bonds.scatter,
-                                             std::move(forces));
-  } else {
-    Kokkos::parallel_reduce("fracta::bond_forces", Kokkos::RangePolicy<ExecSpace>(0, count), forces,
-                            Kokkos::Sum<Sums<3>>(s));
-  }
   r.fracture_energy = s.v[0];
   r.plastic_work = s.v[1];
   r.broken = static_cast<long>(s.v[2] + 0.5);
   return r;
+}
+
+inline BondStepResult compute_bond_forces(const Nodes& nodes, const Elements& elements,
+                                          const Bonds& bonds, const View<const BondLaw*>& laws,
+                                          double dt, BondBatches batches = BondBatches::runs,
+                                          const ResultSlot<BondSums>& into = {}) {
+  BondStepResult r;
+  if (bonds.count == 0) {
+    if (into.data()) put(into, BondSums());
+    return r;
+  }
+  const int count = bond_list_count(bonds);
+  BondForces forces{
+      nodes, elements, bonds, laws, dt, bonds_listed(bonds) ? bonds.used : View<int*>(), true};
+  forces.batches = batches;
+  BondSums s;
+  if (bonds.scatter.usable(count)) {
+    forces.atomic = false;
+    s = for_each_chunk<Kokkos::Sum<BondSums>>("fracta::bond_forces", bonds.scatter,
+                                              std::move(forces));
+    if (!into.data()) return bond_step_result(s);
+    put(into, s);
+    return r;
+  }
+  const auto policy = Kokkos::RangePolicy<ExecSpace>(0, count);
+  if (into.data()) {
+    Kokkos::parallel_reduce(slot_label("fracta::bond_forces"), policy, forces,
+                            Kokkos::Sum<BondSums, MemSpace>(into));
+    return r;
+  }
+  Kokkos::parallel_reduce("fracta::bond_forces", policy, forces, Kokkos::Sum<BondSums>(s));
+  return bond_step_result(s);
 }
 
 }  // namespace fracta

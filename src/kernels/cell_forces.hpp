@@ -171,24 +171,36 @@ inline void build_cell_scatter_plan(Elements& elements) {
 // Adds the cell term's forces to nodes.f and returns the energy of the cells that cracked since
 // the last call (J). Nothing to do (and no launch) when no material has the term. CPUs: by the
 // chunks of every mesh element that hold converted cells (count_cell_chunks); GPUs (and a plan
-// that cannot be used): atomically over the converted list [0, count).
+// that cannot be used): atomically over the converted list [0, count). With a slot given, the
+// energy goes there (ResultSlot: the launch does not wait) and 0 is returned.
 inline double compute_cell_bulk_forces(const Nodes& nodes, const Elements& elements,
                                        const View<const LatticeStiffness*>& stiffness,
-                                       const View<int*>& converted, const int count) {
-  if (elements.cell_volumetric_strain.extent(0) == 0 || elements.count == 0 || count == 0)
+                                       const View<int*>& converted, const int count,
+                                       const ResultSlot<double>& into = {}) {
+  if (elements.cell_volumetric_strain.extent(0) == 0 || elements.count == 0 || count == 0) {
+    if (into.data()) put(into, 0.0);
     return 0.0;
+  }
   const ScatterPlan& plan = elements.cell_scatter;
   double released = 0.0;
   if (plan.usable(elements.count)) {
     released = for_each_chunk<Kokkos::Sum<double>>(
         "fracta::cell_bulk_forces", plan, CellBulkForces{nodes, elements, stiffness, false});
-  } else {
-    const CellBulkForces kernel{nodes, elements, stiffness, true};
-    Kokkos::parallel_reduce(
-        "fracta::cell_bulk_forces", Kokkos::RangePolicy<ExecSpace>(0, count),
-        KOKKOS_LAMBDA(const int k, double& sum) { kernel.cell(converted(k), sum); },
-        Kokkos::Sum<double>(released));
+    if (!into.data()) return released;
+    put(into, released);
+    return 0.0;
   }
+  const CellBulkForces kernel{nodes, elements, stiffness, true};
+  const auto cell = KOKKOS_LAMBDA(const int k, double& sum) {
+    kernel.cell(converted(k), sum);
+  };
+  const auto policy = Kokkos::RangePolicy<ExecSpace>(0, count);
+  if (into.data())
+    Kokkos::parallel_reduce(slot_label("fracta::cell_bulk_forces"), policy, cell,
+                            Kokkos::Sum<double, MemSpace>(into));
+  else
+    Kokkos::parallel_reduce("fracta::cell_bulk_forces", policy, cell,
+                            Kokkos::Sum<double>(released));
   return released;
 }
 

@@ -264,12 +264,14 @@ inline void gather_contact_forces(const Nodes& nodes, const ContactGather& g) {
 
 // Adds the contact forces of the candidate pairs [0, count) to nodes.f and nodes.moment.
 // joins: pair_topology of these pairs, or empty. gather: build_contact_gather of these pairs
-// (a fixed summation order), or not built: atomic adds (any pair list).
+// (a fixed summation order), or not built: atomic adds (any pair list). With a slot given, the
+// sums go there (ResultSlot: the launch does not wait) and the value returned is empty.
 inline ContactSums contact_forces(const Nodes& nodes, const Topology& topo,
                                   const View<const int*>& pair_i, const View<const int*>& pair_j,
                                   long count, const ContactLaw& law, double dt,
                                   const View<const int* [3]>& joins = {},
-                                  const ContactGather& gather = {}) {
+                                  const ContactGather& gather = {},
+                                  const ResultSlot<ContactSums>& into = {}) {
   ContactForceKernel kernel{pair_i,       pair_j,
                             joins,        nodes.x,
                             nodes.v,      nodes.mass,
@@ -280,8 +282,12 @@ inline ContactSums contact_forces(const Nodes& nodes, const Topology& topo,
                             topo,         law,
                             dt,           gather.built() ? gather.pair_force : View<double* [4]>()};
   ContactSums sums;
-  Kokkos::parallel_reduce("fracta::contact_forces", Kokkos::RangePolicy<ExecSpace>(0, count),
-                          kernel, sums);
+  const auto policy = Kokkos::RangePolicy<ExecSpace>(0, count);
+  if (into.data())
+    Kokkos::parallel_reduce(slot_label("fracta::contact_forces"), policy, kernel,
+                            Kokkos::Sum<ContactSums, MemSpace>(into));
+  else
+    Kokkos::parallel_reduce("fracta::contact_forces", policy, kernel, sums);
   if (gather.built()) gather_contact_forces(nodes, gather);
   return sums;
 }

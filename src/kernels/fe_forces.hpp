@@ -136,13 +136,18 @@ struct FeStepSums {
 };
 
 // Kokkos reducer of FeStepSums: min of dt, sums of the rest (a reducer, since Kokkos 3.4
-// cannot combine a Min and a Sum in one parallel_reduce).
-struct FeStepReducer {
-  using reducer = FeStepReducer;
+// cannot combine a Min and a Sum in one parallel_reduce), into a host value (FeStepReducer) or a
+// ResultSlot (FeStepReducerIn<MemSpace>).
+template <class Space>
+struct FeStepReducerIn {
+  using reducer = FeStepReducerIn;
   using value_type = FeStepSums;
-  using result_view_type = Kokkos::View<value_type, HostSpace, Kokkos::MemoryUnmanaged>;
-  value_type& value;
-  KOKKOS_INLINE_FUNCTION explicit FeStepReducer(value_type& v) : value(v) {}
+  using result_view_type = Kokkos::View<value_type, Space, Kokkos::MemoryUnmanaged>;
+  result_view_type value;
+  bool scalar = true;
+  KOKKOS_INLINE_FUNCTION explicit FeStepReducerIn(value_type& v) : value(&v), scalar(true) {}
+  KOKKOS_INLINE_FUNCTION explicit FeStepReducerIn(const result_view_type& v)
+      : value(v), scalar(false) {}
   KOKKOS_INLINE_FUNCTION void join(value_type& dest, const value_type& src) const {
     dest.dt_min = dest.dt_min < src.dt_min ? dest.dt_min : src.dt_min;
     dest.plastic += src.plastic;
@@ -159,10 +164,11 @@ struct FeStepReducer {
     dest.flagged += src.flagged;
   }
   KOKKOS_INLINE_FUNCTION void init(value_type& v) const { v = FeStepSums(); }
-  KOKKOS_INLINE_FUNCTION value_type& reference() const { return value; }
-  result_view_type view() const { return result_view_type(&value); }
-  KOKKOS_INLINE_FUNCTION bool references_scalar() const { return true; }
+  KOKKOS_INLINE_FUNCTION value_type& reference() const { return *value.data(); }
+  result_view_type view() const { return value; }
+  KOKKOS_INLINE_FUNCTION bool references_scalar() const { return scalar; }
 };
+using FeStepReducer = FeStepReducerIn<HostSpace>;
 
 // QP = 1: one-point integration with the uniform-strain gradients of Flanagan & Belytschko
 // (1981) (exact element averages), plus hourglass control. QP = 4: 2x2 Gauss, no hourglass.
@@ -785,18 +791,26 @@ struct FeForces {
 // their conversion criterion (a superset of those that have), and writes the active indices of
 // the first ones into conversion_candidates (as many as it holds; compact_candidates in
 // conversion.hpp). Without a usable elements.scatter (the plan of the active list:
-// update_scatter_plan) the forces are added atomically.
+// update_scatter_plan) the forces are added atomically. With a slot given, the sums go there
+// (ResultSlot: the launch does not wait) and the value returned is empty.
 template <class Kernel>
-inline FeStepSums launch_fe_forces(const char* name, Kernel kernel) {
+inline FeStepSums launch_fe_forces(const char* name, Kernel kernel,
+                                   const ResultSlot<FeStepSums>& into) {
   const int active_count = kernel.elements.active_count;
+  FeStepSums sums;
   if (kernel.elements.scatter.usable(active_count)) {
     kernel.atomic = false;
     const ScatterPlan plan = kernel.elements.scatter;
-    return for_each_chunk<FeStepReducer>(name, plan, std::move(kernel));
+    sums = for_each_chunk<FeStepReducer>(name, plan, std::move(kernel));
+    if (!into.data()) return sums;
+    put(into, sums);
+    return FeStepSums();
   }
-  FeStepSums sums;
   const auto policy = Kokkos::RangePolicy<ExecSpace>(0, Kernel::batches(active_count));
-  Kokkos::parallel_reduce(name, policy, kernel, FeStepReducer(sums));
+  if (into.data())
+    Kokkos::parallel_reduce(slot_label(name), policy, kernel, FeStepReducerIn<MemSpace>(into));
+  else
+    Kokkos::parallel_reduce(name, policy, kernel, FeStepReducer(sums));
   return sums;
 }
 
@@ -827,14 +841,19 @@ inline Elements fe_element_views(const Elements& elements) {
 }
 
 // tension_rates (per material) and the nodes' v_filtered: the rate-dependent tension cut-off,
-// when a material has one (empty: none).
+// when a material has one (empty: none). into: a slot for the sums (the value returned is then
+// empty), or none.
 inline FeStepSums compute_fe_forces(const Nodes& nodes, const Elements& elements,
                                     const View<const MaterialLaw*>& materials, const FeParams& p,
                                     const ConversionCriterion& criterion = {},
                                     const View<int>& conversion_pending = {},
                                     const View<int*>& conversion_candidates = {},
-                                    const View<const RateLaw*>& tension_rates = {}) {
-  if (elements.active_count == 0) return FeStepSums();
+                                    const View<const RateLaw*>& tension_rates = {},
+                                    const ResultSlot<FeStepSums>& into = {}) {
+  if (elements.active_count == 0) {
+    if (into.data()) put(into, FeStepSums());
+    return FeStepSums();
+  }
   const View<double* [2]> v_filtered =
       tension_rates.extent(0) > 0 ? nodes.v_filtered : View<double* [2]>();
   const auto launch = [&](const char* name, auto kernel) {
@@ -848,7 +867,7 @@ inline FeStepSums compute_fe_forces(const Nodes& nodes, const Elements& elements
     kernel.conversion_candidates = conversion_candidates;
     kernel.tension_rates = tension_rates;
     kernel.v_filtered = v_filtered;
-    return launch_fe_forces(name, kernel);
+    return launch_fe_forces(name, kernel, into);
   };
   if (p.axisymmetric)
     return elements.qp_per_element == 1

@@ -226,13 +226,18 @@ struct NodeBatches {
 };
 
 // The kick is moved, not copied, into the batches: a host copy of the Nodes views counts each
-// reference with an atomic (for_each_chunk in scatter.hpp).
+// reference with an atomic (for_each_chunk in scatter.hpp). With a slot given, the external work
+// goes there (ResultSlot: the launch does not wait) and 0 is returned.
 template <class Kick>
-double run_kick(const char* name, Kick kick) {
+double run_kick(const char* name, Kick kick, const ResultSlot<double>& into) {
   double work = 0.0;
   const int items = (kick.nodes.count + kLanes - 1) / kLanes;
-  Kokkos::parallel_reduce(name, Kokkos::RangePolicy<ExecSpace>(0, items),
-                          NodeBatches<Kick>{std::move(kick)}, work);
+  const auto policy = Kokkos::RangePolicy<ExecSpace>(0, items);
+  if (into.data())
+    Kokkos::parallel_reduce(slot_label(name), policy, NodeBatches<Kick>{std::move(kick)},
+                            Kokkos::Sum<double, MemSpace>(into));
+  else
+    Kokkos::parallel_reduce(name, policy, NodeBatches<Kick>{std::move(kick)}, work);
   return work;
 }
 
@@ -255,25 +260,28 @@ inline Nodes kick_views(const Nodes& nodes, const bool rotations) {
   return k;
 }
 
-// lanes = false: node by node (tests).
-inline double kick_kick_drift(const Nodes& nodes, double dt_last, double dt, bool lanes = true) {
+// lanes = false: node by node (tests). into: a slot for the external work (then 0 is returned).
+inline double kick_kick_drift(const Nodes& nodes, double dt_last, double dt, bool lanes = true,
+                              const ResultSlot<double>& into = {}) {
   const bool rotations = nodes.has_discs_now();
   return run_kick("fracta::kick_kick_drift",
-                  KickKickDrift{kick_views(nodes, rotations), dt_last, dt, rotations, lanes});
+                  KickKickDrift{kick_views(nodes, rotations), dt_last, dt, rotations, lanes}, into);
 }
 
 // First half kick and drift. Returns this half's external work (J).
-inline double kick_drift(const Nodes& nodes, double dt, bool lanes = true) {
+inline double kick_drift(const Nodes& nodes, double dt, bool lanes = true,
+                         const ResultSlot<double>& into = {}) {
   const bool rotations = nodes.has_discs_now();
   return run_kick("fracta::kick_drift",
-                  HalfKick<true>{kick_views(nodes, rotations), dt, rotations, lanes});
+                  HalfKick<true>{kick_views(nodes, rotations), dt, rotations, lanes}, into);
 }
 
 // Second half kick. Returns this half's external work (J).
-inline double kick(const Nodes& nodes, double dt, bool lanes = true) {
+inline double kick(const Nodes& nodes, double dt, bool lanes = true,
+                   const ResultSlot<double>& into = {}) {
   const bool rotations = nodes.has_discs_now();
   return run_kick("fracta::kick",
-                  HalfKick<false>{kick_views(nodes, rotations), dt, rotations, lanes});
+                  HalfKick<false>{kick_views(nodes, rotations), dt, rotations, lanes}, into);
 }
 
 }  // namespace fracta

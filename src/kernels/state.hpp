@@ -407,6 +407,32 @@ struct Sums {
   }
 };
 
+// Where a reduction leaves its result when the host is not to wait for it: an unmanaged view of
+// one member of a struct in the execution space's memory (the step's sums, which the host copies
+// once per step: Simulation::settle_step_sums). A launch that reduces into a slot is queued like a
+// parallel_for; one that reduces into a host value makes the host wait for the device (a round
+// trip on a GPU). An empty slot: reduce into the host value, as before.
+template <class T>
+using ResultSlot = Kokkos::View<T, MemSpace, Kokkos::MemoryUnmanaged>;
+
+// The label of a launch that reduces into a slot: its kernel's name and kSlotLabel, so that the
+// profiling tools tell it from one the host waits for (bench/region_timer.hpp counts them apart).
+constexpr const char* kSlotLabel = " [slot]";
+inline std::string slot_label(const char* name) {
+  return std::string(name) + kSlotLabel;
+}
+
+// Stores a value the host holds into a slot: a plain store where the host reaches the slot's
+// memory (CPU builds, whose chunked reductions end on the host), a copy otherwise.
+template <class T>
+inline void put(const ResultSlot<T>& slot, const T& value) {
+  if constexpr (Kokkos::SpaceAccessibility<HostSpace, MemSpace>::accessible) {
+    *slot.data() = value;
+  } else {
+    Kokkos::deep_copy(slot, Kokkos::View<const T, HostSpace, Kokkos::MemoryUnmanaged>(&value));
+  }
+}
+
 }  // namespace fracta
 
 namespace Kokkos {

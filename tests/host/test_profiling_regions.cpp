@@ -1,8 +1,8 @@
 // The named profiling regions the benchmarks time (bench/region_timer.hpp), and the contract
-// they show (docs/physics.md 1.3: model only what a scene requires): a scene without contact-capable bodies never runs
-// the neighbour search, and no bond or conversion work is done where no body can convert.
-// Counts are exact integers: every step enters each of its phases once (integration twice:
-// kick_drift and kick).
+// they show (docs/physics.md 1.3: model only what a scene requires): a scene without
+// contact-capable bodies never runs the neighbour search, and no bond or conversion work is done
+// where no body can convert. Counts are exact integers: every step enters each of its phases once
+// (integration twice: kick_drift and kick).
 #include <gtest/gtest.h>
 
 #include "../../bench/region_timer.hpp"
@@ -12,6 +12,7 @@
 namespace fracta {
 namespace {
 
+using bench::KernelTimer;
 using bench::RegionTimer;
 
 constexpr int kSteps = 12;
@@ -75,6 +76,40 @@ TEST_F(ProfilingRegions, AdaptiveSceneRunsNoConversionPhaseWhileNothingIsFlagged
   EXPECT_EQ(RegionTimer::get("fracta::conversion").calls, 0);
   EXPECT_EQ(RegionTimer::get("fracta::fe_forces").calls, kSteps);
   EXPECT_EQ(RegionTimer::get("fracta::bond_forces").calls, 0);
+}
+
+// What a step without conversion asks of the device (docs/performance.md, "Launches and host
+// round trips per step"): the phases' sums go to the step's slots and the host copies them once
+// (Simulation::settle_step_sums), so on the device path (what a GPU runs) a step of a scene with
+// bonds and contact waits for the device only for the contact search's rebuild check and that
+// copy. The host path's chunked phases reduce colour by colour on the host instead: there it is
+// their sums that come back once, with no device to wait for.
+TEST(DeviceWaits, AStepWithoutConversionWaitsForTheDeviceAtMostThreeTimes) {
+  Case c = test::rectangle_case(8, 4, 1e-3, 200e9, 0.2);
+  c.bodies[0].method = BodyMethod::de;  // bonds, cells and contact every step
+  c.sim.end_time = 1.0;
+  test::add_pressure(c, test::segment(0, 0, 0, 4e-3), {0.0, 1.0}, {100e6, 100e6});
+  Simulation sim(c);
+  sim.step();  // the first step builds the contact lists
+  KernelTimer::install();
+  const bench::LaunchCounts before = KernelTimer::counts();
+  for (int s = 0; s < kSteps; ++s) sim.step(/*defer_kick=*/true);
+  const bench::LaunchCounts n = KernelTimer::counts() - before;
+  KernelTimer::uninstall();
+  ASSERT_FALSE(sim.failed()) << sim.failure();
+  // Every phase's sums reach the ledger: the run balances energy as before.
+  EXPECT_LT(sim.history().energy.error, 1e-6);
+  // The slots: bonds, contact forces and their work, and the kick (deferred: one kick per step,
+  // the kick-kick-drift). A `de` body has no active element: the FE sums are stored, not reduced.
+  RecordProperty("host_reduces", std::to_string(n.host_reduces()));
+  RecordProperty("deep_copies", std::to_string(n.deep_copies));
+  if (kAtomicScatter) {
+    EXPECT_EQ(n.slot_reduces, 4 * kSteps);
+    EXPECT_LE(n.host_reduces() + n.deep_copies, 3 * kSteps)
+        << n.host_reduces() << " reduces into host values, " << n.deep_copies << " deep copies";
+  } else {
+    EXPECT_GT(n.slot_reduces, 0);  // the kicks and the unchunked contact kernels
+  }
 }
 
 }  // namespace
