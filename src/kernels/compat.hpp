@@ -94,6 +94,13 @@ KOKKOS_INLINE_FUNCTION double log_(double a) {
   return Kokkos::Experimental::log(a);
 #endif
 }
+KOKKOS_INLINE_FUNCTION double log10_(double a) {
+#if KOKKOS_VERSION >= 40000
+  return Kokkos::log10(a);
+#else
+  return Kokkos::Experimental::log10(a);
+#endif
+}
 KOKKOS_INLINE_FUNCTION double exp_(double a) {
 #if KOKKOS_VERSION >= 40000
   return Kokkos::exp(a);

@@ -179,9 +179,28 @@ using FeStepReducer = FeStepReducerIn<HostSpace>;
 // by element as double. The element code is the same for both (element<T>). The material
 // update is the one part that branches per element: every lane takes the elastic trial, and
 // the lanes that may_leave_elastic marks (yielding, or near the conversion stresses) redo the
-// whole update_stress one at a time, since return mappings iterate.
+// whole update_stress one at a time, since return mappings iterate (hjc, whose pressure is not
+// the elastic trial's: its own batched elastic step, hjc_batch_update).
 // Axisymmetric: the formulation as a template parameter (FeParams::axisymmetric chooses it at
 // the launch), so the plane kernels carry none of its terms.
+// The gradient l = (L_xx, L_xy, L_yx, L_yy), L_ij = sum_a v_i,a dN_a/dx_j, of corner values
+// (vx, vy) over a point's gradients (bx, by).
+template <class T>
+KOKKOS_INLINE_FUNCTION void gradient_of(const T (&vx)[4], const T (&vy)[4], const T (&bx)[4],
+                                        const T (&by)[4], T (&l)[4]) {
+  T lxx = splat<T>(0.0), lxy = lxx, lyx = lxx, lyy = lxx;
+  for (int a = 0; a < 4; ++a) {
+    lxx += vx[a] * bx[a];
+    lxy += vx[a] * by[a];
+    lyx += vy[a] * bx[a];
+    lyy += vy[a] * by[a];
+  }
+  l[0] = lxx;
+  l[1] = lxy;
+  l[2] = lyx;
+  l[3] = lyy;
+}
+
 template <int QP, bool Axisymmetric = false>
 struct FeForces {
   Nodes nodes;
@@ -372,22 +391,28 @@ struct FeForces {
   template <class T, int L>
   KOKKOS_FORCEINLINE_FUNCTION void gather_corners(const ElementLanes<L>& lanes, T (&x)[4],
                                                   T (&y)[4], T (&vx)[4], T (&vy)[4]) const {
-    const int x_stride = static_cast<int>(nodes.x.stride_0());
-    const int v_stride = static_cast<int>(nodes.v.stride_0());
+    gather_corner_pairs(lanes, nodes.x, x, y);
+    gather_corner_pairs(lanes, nodes.v, vx, vy);
+  }
+
+  // The lanes' corner values of a [n][2] node array (positions, velocities): component 0 in u,
+  // 1 in w; by vector loads along a structured row of a LayoutRight array.
+  template <class T, int L, class NodeView>
+  KOKKOS_FORCEINLINE_FUNCTION void gather_corner_pairs(const ElementLanes<L>& lanes,
+                                                       const NodeView& view, T (&u)[4],
+                                                       T (&w)[4]) const {
+    const int stride = static_cast<int>(view.stride_0());
     for (int a = 0; a < 4; ++a) {
 #ifdef FRACTA_HOST_SIMD
       if constexpr (L > 1) {
-        if (lanes.row) {
-          load_pairs(&nodes.x(0, 0) + 2 * lanes.node[a][0], x[a], y[a]);
-          load_pairs(&nodes.v(0, 0) + 2 * lanes.node[a][0], vx[a], vy[a]);
+        if (lanes.row && stride == 2) {
+          load_pairs(&view(0, 0) + 2 * lanes.node[a][0], u[a], w[a]);
           continue;
         }
       }
 #endif
-      x[a] = gather_lanes<T>(&nodes.x(0, 0), lanes.node[a], x_stride);
-      y[a] = gather_lanes<T>(&nodes.x(0, 1), lanes.node[a], x_stride);
-      vx[a] = gather_lanes<T>(&nodes.v(0, 0), lanes.node[a], v_stride);
-      vy[a] = gather_lanes<T>(&nodes.v(0, 1), lanes.node[a], v_stride);
+      u[a] = gather_lanes<T>(&view(0, 0), lanes.node[a], stride);
+      w[a] = gather_lanes<T>(&view(0, 1), lanes.node[a], stride);
     }
   }
 
@@ -406,17 +431,7 @@ struct FeForces {
       ym[a] = y[a] - 0.5 * p.dt * vy[a];
     }
     qp_gradients<QP>(xm, ym, g, bx, by);
-    T lxx = splat<T>(0.0), lxy = lxx, lyx = lxx, lyy = lxx;
-    for (int a = 0; a < 4; ++a) {
-      lxx += vx[a] * bx[a];
-      lxy += vx[a] * by[a];
-      lyx += vy[a] * bx[a];
-      lyy += vy[a] * by[a];
-    }
-    l[0] = lxx;
-    l[1] = lxy;
-    l[2] = lyx;
-    l[3] = lyy;
+    gradient_of(vx, vy, bx, by, l);
   }
 
   // Axisymmetric point g: its radius r = sum N_a x_a now (where the volume 2 pi r dA and the
@@ -534,11 +549,17 @@ struct FeForces {
     const T deps[3] = {l[0] * p.dt, l[3] * p.dt, 0.5 * (l[1] + l[2]) * p.dt};
     const T deps_zz = hoop_rate * p.dt;  // axisymmetric: the hoop increment; else 0
     const T s_old[4] = {s[0], s[1], s[2], s[3]};
-    if constexpr (Axisymmetric)
-      elastic_increment_3d(mat, deps, deps_zz, s);
-    else
-      elastic_increment(mat, deps, s);
-    const auto full_update = may_leave_elastic(mat, s, epeq);
+    using Mask = decltype(!all_lanes<T>());
+    Mask full_update;
+    if (mat.model == kHjc) {
+      full_update = hjc_batch_update(mat, deps, deps_zz, s, sum.wave_speed, factor, q);
+    } else {
+      if constexpr (Axisymmetric)
+        elastic_increment_3d(mat, deps, deps_zz, s);
+      else
+        elastic_increment(mat, deps, s);
+      full_update = may_leave_elastic(mat, s, epeq);
+    }
     if (any_lane(full_update)) {
       T plastic = sum.plastic;  // a local for the lane writes, so `sum` stays in registers
       for (int k = 0; k < L; ++k) {
@@ -578,6 +599,49 @@ struct FeForces {
     sum.strain_work += 0.5 * power * 0.5 * (volume_old + volume);
     rotate_stress(s, rot_c, rot_s);
     return full_update;
+  }
+
+  // The hjc lanes' elastic step at once (hjc_elastic_update): the stress s, the state of the
+  // points q and the lanes' wave speeds of the lanes it takes, with the tension limit raised by
+  // factor; returns the others, for hjc_update one at a time. Most of a
+  // concrete target is elastic in most steps, and the one-at-a-time update's power, logarithm and
+  // lane traffic cost three times the rest of the element (docs/performance.md).
+  template <class T, int L>
+  KOKKOS_FORCEINLINE_FUNCTION auto hjc_batch_update(const MaterialLaw& mat, const T (&deps)[3],
+                                                    const T& deps_zz, T (&s)[4], T& wave_speed,
+                                                    const T& factor, const int (&q)[L]) const {
+    static_assert(kLawStateSize == 3, "the state moves as triples");
+    // Elements::law_state is LayoutRight ([n][3], rows of 3) wherever the element kernel runs in
+    // lanes of 8 (host); on GPUs (one lane) any layout.
+    T state[kLawStateSize];
+    const bool rows_of_three = elements.law_state.stride_0() == 3;
+    if (rows_of_three) {
+      load_triple_lanes(elements.law_state.data(), q, state);
+    } else {
+      const int stride = static_cast<int>(elements.law_state.stride_0());
+      for (int c = 0; c < kLawStateSize; ++c)
+        state[c] = gather_lanes<T>(&elements.law_state(0, c), q, stride);
+    }
+    T s_new[4], mu, mu_max, point_wave_speed;
+    const auto taken = hjc_elastic_update(mat, deps, deps_zz, s, state, factor, s_new, mu, mu_max,
+                                          point_wave_speed);
+    if (!any_lane(taken)) return !taken;
+    for (int c = 0; c < 4; ++c) s[c] = taken ? s_new[c] : s[c];
+    wave_speed = taken ? max_(wave_speed, point_wave_speed) : wave_speed;
+    // The damage does not change in an elastic step; the lanes not taken keep their state for
+    // hjc_update.
+    state[kHjcMu] = taken ? mu : state[kHjcMu];
+    state[kHjcMuMax] = taken ? mu_max : state[kHjcMuMax];
+    if (rows_of_three) {
+      store_triple_lanes(elements.law_state.data(), q, state);
+    } else {
+      for (int k = 0; k < L; ++k) {
+        if (!get_lane(taken, k)) continue;
+        elements.law_state(q[k], kHjcMu) = get_lane(mu, k);
+        elements.law_state(q[k], kHjcMuMax) = get_lane(mu_max, k);
+      }
+    }
+    return !taken;
   }
 
   // Lane k of a law with a state (update_stress_with_state: hjc, johnson_cook) at point q: its
@@ -638,32 +702,28 @@ struct FeForces {
   KOKKOS_FORCEINLINE_FUNCTION T tension_factor_of(const RateLaw& rate, const ElementLanes<L>& lanes,
                                                   const int g, const T (&bx)[4], const T (&by)[4],
                                                   const T& depth) const {
-    double n[4];
-    qp_shape_values<QP>(g, n);
-    T factor = splat<T>(1.0);
-    for (int k = 0; k < L; ++k) {
-      double lxx = 0, lxy = 0, lyx = 0, lyy = 0;
-      for (int a = 0; a < 4; ++a) {
-        const int n = lanes.node[a][k];
-        const double b0 = get_lane(bx[a], k), b1 = get_lane(by[a], k);
-        lxx += v_filtered(n, 0) * b0;
-        lxy += v_filtered(n, 0) * b1;
-        lyx += v_filtered(n, 1) * b0;
-        lyy += v_filtered(n, 1) * b1;
-      }
-      const double dxy = 0.5 * (lxy + lyx);
-      double largest = 0.5 * (lxx + lyy) + sqrt_(0.25 * (lxx - lyy) * (lxx - lyy) + dxy * dxy);
-      if constexpr (Axisymmetric) {
-        double vr = 0.0;
-        for (int a = 0; a < 4; ++a) vr += n[a] * v_filtered(lanes.node[a][k], 0);
-        const double radius = get_lane(depth, k) / kTwoPi;
-        if (radius > 0.0) largest = max_(largest, vr / radius);
-      }
-      const double f = rate.strength_factor(max_(largest, 0.0));
-      set_lane(factor, k, f);
-      const int e = lanes.e[k];
-      elements.tension_factor(e) = g == 0 ? f : min_(elements.tension_factor(e), f);
+    // The filtered velocities of the corners, and their gradient.
+    T vx[4], vy[4], l[4];
+    gather_corner_pairs(lanes, v_filtered, vx, vy);
+    gradient_of(vx, vy, bx, by, l);
+    const T lxx = l[0], lxy = l[1], lyx = l[2], lyy = l[3];
+    const T dxy = 0.5 * (lxy + lyx);
+    T largest = 0.5 * (lxx + lyy) + sqrt_(0.25 * (lxx - lyy) * (lxx - lyy) + dxy * dxy);
+    if constexpr (Axisymmetric) {
+      double n[4];
+      qp_shape_values<QP>(g, n);
+      T vr = splat<T>(0.0);
+      for (int a = 0; a < 4; ++a) vr += n[a] * vx[a];
+      const T radius = depth / kTwoPi;
+      largest = radius > 0.0 ? max_(largest, vr / radius) : largest;
     }
+    const T rate_now = max_(largest, splat<T>(0.0));
+    const T factor = rate.strength_factor(rate_now);
+    const T kept =
+        g == 0 ? factor
+               : min_(load_lanes<T>(elements.tension_factor.data(), lanes.e, lanes.consecutive),
+                      factor);
+    store_lanes(kept, elements.tension_factor.data(), lanes.e, lanes.consecutive);
     return factor;
   }
 

@@ -294,26 +294,35 @@ struct RateLaw {
 
   KOKKOS_INLINE_FUNCTION bool active() const { return count > 0; }
 
-  // The factor of `column` (strength or fracture_energy) at strain rate `rate` (1/s).
-  KOKKOS_INLINE_FUNCTION double factor(const double (&column)[kMaxEntries], double rate) const {
-    if (!(rate > 0.0)) return column[0];
-#if KOKKOS_VERSION >= 40000
-    const double x = Kokkos::log10(rate);
-#else
-    const double x = Kokkos::Experimental::log10(rate);
-#endif
-    if (x <= log10_rate[0]) return column[0];
-    for (int k = 1; k < count; ++k)
-      if (x < log10_rate[k]) {
-        const double t = (x - log10_rate[k - 1]) / (log10_rate[k] - log10_rate[k - 1]);
-        return column[k - 1] + t * (column[k] - column[k - 1]);
-      }
-    return column[count - 1];
+  // The factor of `column` (strength or fracture_energy) at strain rate `rate` (1/s): column[0]
+  // at or below the first rate (and for a rate that is not positive), the last entry at or above
+  // the last, linear in log10(rate) between. T: double, or one rate per lane (simd.hpp): the
+  // segment is found by a select per entry, so the lanes need no branch, and a double gets the
+  // walk's own arithmetic.
+  template <class T>
+  KOKKOS_INLINE_FUNCTION T factor(const double (&column)[kMaxEntries], const T& rate) const {
+    if (count < 2) return splat<T>(column[0]);
+    const T x = log10_(rate);
+    T x0 = splat<T>(log10_rate[0]), x1 = splat<T>(log10_rate[1]);
+    T c0 = splat<T>(column[0]), c1 = splat<T>(column[1]);
+    for (int k = 2; k < count; ++k) {
+      const auto beyond = x >= log10_rate[k - 1];
+      x0 = beyond ? splat<T>(log10_rate[k - 1]) : x0;
+      x1 = beyond ? splat<T>(log10_rate[k]) : x1;
+      c0 = beyond ? splat<T>(column[k - 1]) : c0;
+      c1 = beyond ? splat<T>(column[k]) : c1;
+    }
+    const T t = (x - x0) / (x1 - x0);
+    T f = c0 + t * (c1 - c0);
+    f = x >= log10_rate[count - 1] ? splat<T>(column[count - 1]) : f;
+    return !(rate > 0.0) || x <= log10_rate[0] ? splat<T>(column[0]) : f;
   }
-  KOKKOS_INLINE_FUNCTION double strength_factor(double rate) const {
+  template <class T>
+  KOKKOS_INLINE_FUNCTION T strength_factor(const T& rate) const {
     return factor(strength, rate);
   }
-  KOKKOS_INLINE_FUNCTION double fracture_energy_factor(double rate) const {
+  template <class T>
+  KOKKOS_INLINE_FUNCTION T fracture_energy_factor(const T& rate) const {
     return factor(fracture_energy, rate);
   }
 };

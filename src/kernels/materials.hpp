@@ -555,8 +555,11 @@ KOKKOS_INLINE_FUNCTION double hjc_pressure(const HjcParams& h, double mu, double
 }
 
 // Plastic volumetric strain after the largest compaction mu_max (mu at zero pressure on its
-// unloading line), the mu_p of the damage sum.
+// unloading line), the mu_p of the damage sum: exactly 0 up to the crush point, where the
+// loading line is the unloading line (the quotient below would leave the round-off of
+// K_e mu_max / K_e).
 KOKKOS_INLINE_FUNCTION double hjc_plastic_volumetric_strain(const HjcParams& h, double mu_max) {
+  if (mu_max <= h.mu_crush) return 0.0;
   const double mu_env = min_(mu_max, h.mu_lock);
   double p_max, k_unload;
   hjc_envelope(h, mu_env, p_max, k_unload);
@@ -799,6 +802,65 @@ KOKKOS_INLINE_FUNCTION bool has_law_state(int model) {
 KOKKOS_INLINE_FUNCTION double hjc_wave_speed(const MaterialLaw& m, const double state[3]) {
   const double k = detail::hjc_tangent_bulk_modulus(m.hjc, state[kHjcMu], state[kHjcMuMax]);
   return sqrt_((k + 4.0 / 3.0 * m.shear_modulus) / m.density);
+}
+
+// detail::hjc_update where it is elastic, for one point per lane (T: double, or simd.hpp's lane
+// type): no deviatoric flow and no new crushing. hjc_update's arithmetic in its order, so a lane it
+// takes gets hjc_update's stress and state to the bit, and wave_speed hjc_wave_speed's.
+// tension_factor: the lanes' dynamic increase factor of T (with_tension_factor; 1: none).
+// Returns the lanes it takes; the others must run detail::hjc_update from their old s and state. A
+// lane is taken when its deviatoric trial is within a lower bound of the strength that needs
+// neither the power nor the rate's logarithm: for P* >= 0, f'_c min(A (1 - D), S_max) (B P*^N
+// adds to it and the rate factor is at least 1, and rounding keeps both so), below it the
+// tension branch itself; and when mu_max grows no further than mu_crush (no plastic volume) and
+// the point is short of the dense curve. A law whose B or C is negative, or whose EF_min is not
+// positive (a 0 / 0 damage increment), takes no lane.
+template <class T>
+KOKKOS_FORCEINLINE_FUNCTION auto hjc_elastic_update(const MaterialLaw& m, const T deps[3],
+                                                    const T& deps_zz, const T s[4],
+                                                    const T state[3], const T& tension_factor,
+                                                    T s_new[4], T& mu, T& mu_max, T& wave_speed) {
+  const HjcParams& h = m.hjc;
+  const double G = m.shear_modulus;
+  const T zero = splat<T>(0.0);
+  const T tr = deps[0] + deps[1] + deps_zz;
+  mu = (1.0 + state[1]) * exp_(-tr) - 1.0;
+  mu_max = max_(state[2], mu);
+  // The envelope (hjc_envelope) at mu_env and the pressure (hjc_pressure) short of the dense
+  // curve.
+  const T mu_env = min_(mu_max, splat<T>(h.mu_lock));
+  const double k_elastic = h.p_crush / h.mu_crush;
+  const auto below_crush = mu_env <= h.mu_crush;
+  const T f = min_((mu_env - h.mu_crush) / (h.mu_lock - h.mu_crush), splat<T>(1.0));
+  const T p_max =
+      below_crush ? k_elastic * max_(mu_env, zero) : h.p_crush + (h.p_lock - h.p_crush) * f;
+  const T k_unload = below_crush ? splat<T>(k_elastic) : (1.0 - f) * k_elastic + f * h.k1;
+  T p = p_max - k_unload * (mu_env - mu);
+  const T damage = state[0];
+  // with_tension_factor's raised limit T.
+  const T t = h.t * tension_factor;
+  const T tension_limit = t * (1.0 - damage);
+  p = max_(p, -tension_limit);
+  const T p_old = -(s[0] + s[1] + s[2]) / 3.0;
+  const T e_mean = tr / 3.0;
+  const T d[4] = {s[0] + p_old + 2.0 * G * (deps[0] - e_mean),
+                  s[1] + p_old + 2.0 * G * (deps[1] - e_mean),
+                  s[2] + p_old + 2.0 * G * (deps_zz - e_mean), s[3] + 2.0 * G * deps[2]};
+  const T q = sqrt_(1.5 * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + 2.0 * d[3] * d[3]));
+  // The strength's lower bound (hjc_strength without B P*^N and the rate factor).
+  const T p_star = p / h.fc, intact = 1.0 - damage;
+  const T tension_star = t / h.fc * intact;
+  const T cohesion = h.a * intact;
+  const T tensile = tension_star > 0.0 ? cohesion * max_(1.0 + p_star / tension_star, zero) : zero;
+  const T strength_low = h.fc * min_(p_star >= 0.0 ? cohesion : tensile, splat<T>(h.s_max));
+  const auto dense = mu_max > h.mu_lock && mu >= h.mu_lock;
+  const auto taken =
+      (q <= strength_low) && !dense && (!(mu_max > state[2]) || mu_max <= h.mu_crush);
+  for (int k = 0; k < 3; ++k) s_new[k] = d[k] - p;
+  s_new[3] = d[3];
+  wave_speed = sqrt_((k_unload + 4.0 / 3.0 * G) / m.density);
+  const bool bound_holds = h.b >= 0.0 && h.c >= 0.0 && h.ef_min > 0.0;
+  return bound_holds ? taken : !all_lanes<T>();
 }
 
 // P-wave speed (m/s) of a point of a law with a state: hjc_wave_speed, or the law's own.

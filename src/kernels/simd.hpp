@@ -89,6 +89,16 @@ KOKKOS_INLINE_FUNCTION void store_lanes<double, 1>(const double& v, double* colu
   column[index[0]] = v;
 }
 
+// The scalar forms of load_triple_lanes and store_triple_lanes (one row).
+KOKKOS_INLINE_FUNCTION void load_triple_lanes(const double* base, const int (&index)[1],
+                                              double (&v)[3]) {
+  for (int c = 0; c < 3; ++c) v[c] = base[3 * index[0] + c];
+}
+KOKKOS_INLINE_FUNCTION void store_triple_lanes(double* base, const int (&index)[1],
+                                               const double (&v)[3]) {
+  for (int c = 0; c < 3; ++c) base[3 * index[0] + c] = v[c];
+}
+
 // column[index[l]] += lane l of v.
 template <class T, int L>
 KOKKOS_INLINE_FUNCTION void add_lanes(const T& v, double* column, const int (&index)[L],
@@ -159,6 +169,36 @@ inline Double8 sqrt_(Double8 a) {
   for (int l = 0; l < 8; ++l) a[l] = sqrt_(a[l]);
   return a;
 #endif
+}
+
+// Lane by lane through the scalar exp_ (the same result as the scalar code's, to the bit).
+inline Double8 exp_(Double8 a) {
+  for (int l = 0; l < 8; ++l) a[l] = exp_(a[l]);
+  return a;
+}
+
+// log10 of the lanes, without a call per lane: x = m 2^e with m in [sqrt(1/2), sqrt(2)), then
+// ln m = 2 atanh(s) = 2 (s + s^3 / 3 + s^5 / 5 + ...), s = (m - 1) / (m + 1), |s| <= 0.1716,
+// whose terms to s^25 leave less than 1e-19; ln 2 in two parts. Within 4 ulps of the scalar
+// log10_ (tested) for positive finite lanes; a zero, negative, NaN or subnormal lane gives some
+// number, which callers select away (RateLaw::factor).
+inline Double8 log10_(const Double8& x) {
+  Mask8 bits;
+  __builtin_memcpy(&bits, &x, sizeof bits);
+  const Mask8 exponent = ((bits >> 52) & 0x7ff) - 1023;
+  const Mask8 mantissa_bits = (bits & 0x000fffffffffffffL) | 0x3ff0000000000000L;
+  Double8 m;  // in [1, 2)
+  __builtin_memcpy(&m, &mantissa_bits, sizeof m);
+  Double8 e = __builtin_convertvector(exponent, Double8);
+  const Mask8 above = m > 1.4142135623730951;
+  m = above ? 0.5 * m : m;
+  e = above ? e + 1.0 : e;
+  const Double8 s = (m - 1.0) / (m + 1.0), s2 = s * s;
+  Double8 series = 1.0 / 25.0 + splat<Double8>(0.0);
+  for (int k = 11; k >= 0; --k) series = 1.0 / (2 * k + 1) + s2 * series;
+  constexpr double ln2_hi = 6.93147180369123816490e-01, ln2_lo = 1.90821492927058770002e-10;
+  const Double8 ln = e * ln2_hi + (2.0 * s * series + e * ln2_lo);
+  return ln * 0.43429448190325182765;  // 1 / ln 10
 }
 
 inline Double8 fabs_(Double8 a) {
@@ -295,6 +335,26 @@ inline Int8 odd_lanes(const Int16& v) {
 // A comparison result of eight ints widened to the lanes of a Double8 select.
 inline Mask8 widen(const Int8& m) {
   return __builtin_convertvector(m, Mask8);
+}
+
+// Rows index[l] of a LayoutRight [n][3] array at base, as three values of one lane per row,
+// and back: whole vectors (load_triples) when the rows are consecutive, else row by row.
+KOKKOS_FORCEINLINE_FUNCTION void load_triple_lanes(const double* base, const int (&index)[8],
+                                                   Double8 (&v)[3]) {
+  if (index[7] - index[0] == 7) {
+    load_triples(base + 3 * index[0], v[0], v[1], v[2]);
+    return;
+  }
+  for (int c = 0; c < 3; ++c) v[c] = gather_lanes<Double8, 8>(base + c, index, 3);
+}
+KOKKOS_FORCEINLINE_FUNCTION void store_triple_lanes(double* base, const int (&index)[8],
+                                                    const Double8 (&v)[3]) {
+  if (index[7] - index[0] == 7) {
+    store_triples(base + 3 * index[0], v[0], v[1], v[2]);
+    return;
+  }
+  for (int l = 0; l < 8; ++l)
+    for (int c = 0; c < 3; ++c) base[3 * index[l] + c] = v[c][l];
 }
 
 // Elements per work item of the element kernel on this build.

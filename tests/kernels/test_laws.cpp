@@ -8,10 +8,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
-
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -426,6 +425,60 @@ void expect_lanes(const Double8& vector, const std::vector<double>& scalar, cons
 }
 void expect_lanes(const Mask8& vector, const std::vector<bool>& scalar, const char* what) {
   for (int l = 0; l < 8; ++l) EXPECT_EQ(vector[l] != 0, scalar[l]) << what << " lane " << l;
+}
+
+// The lanes' log10 (simd.hpp) against the library's, over rates of 1e-12 to 1e12 1/s and the
+// table rates themselves; and the lanes' table factor against the double walk (oracle: the
+// scalar log10 and the same table), for the CEB-FIP-like table of cases/perforation.toml, with
+// rates at, below, between and beyond its entries, zero, negative and NaN.
+TEST(LawsSimd, RateFactorOfTheLanesFollowsTheScalarTable) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> exponent(-12.0, 12.0);
+  double worst_ulps = 0.0;
+  for (int round = 0; round < 2000; ++round) {
+    Double8 x;
+    for (int l = 0; l < 8; ++l) x[l] = std::pow(10.0, exponent(rng));
+    if (round == 0) x = Double8{1.0, 10.0, 0.5, 2.0, 1.4142135623730951, 1e-6, 1233.0, 1e4};
+    const Double8 y = fracta::log10_(x);
+    for (int l = 0; l < 8; ++l) {
+      const double exact = std::log10(x[l]);
+      const double ulp =
+          std::max(std::fabs(exact), 1e-300) * std::numeric_limits<double>::epsilon();
+      worst_ulps = std::max(worst_ulps, std::fabs(y[l] - exact) / ulp);
+      if (exact == 0.0) {
+        EXPECT_EQ(y[l], 0.0);
+      }
+    }
+  }
+  EXPECT_LT(worst_ulps, 4.0);
+
+  RateLaw law;
+  const double rates[12] = {1e-06,  8.111e-06, 6.579e-05, 0.0005337, 0.004329, 0.03511,
+                            0.2848, 2.31,      18.74,     152,       1233,     1e+04};
+  const double strength[12] = {1,    1.026, 1.084, 1.145, 1.21,  1.278,
+                               1.35, 1.426, 1.506, 2.639, 5.303, 10.65};
+  law.count = 12;
+  for (int k = 0; k < 12; ++k)
+    law.log10_rate[k] = std::log10(rates[k]), law.strength[k] = strength[k];
+  double worst = 0.0;
+  for (int round = 0; round < 500; ++round) {
+    Double8 rate;
+    for (int l = 0; l < 8; ++l) rate[l] = std::pow(10.0, exponent(rng) / 1.5);
+    if (round == 0) rate = Double8{0.0, -1.0, std::nan(""), 1e-6, 1e4, 152.0, 1e-7, 1e9};
+    const Double8 lanes = law.strength_factor(rate);
+    for (int l = 0; l < 8; ++l) {
+      const double scalar = law.strength_factor(rate[l]);
+      ASSERT_FALSE(std::isnan(lanes[l])) << rate[l];
+      worst = std::max(worst, std::fabs(lanes[l] - scalar) / scalar);
+      // Beyond the ends, and where no logarithm is needed, the lanes are the scalar's exactly.
+      if (round == 0 && (l < 3 || l > 5)) {
+        EXPECT_EQ(lanes[l], scalar) << rate[l];
+      }
+    }
+  }
+  EXPECT_LT(worst, 1e-14);
+  std::printf("lanes' log10 within %.2f ulps; table factor within %.2g of the scalar walk\n",
+              worst_ulps, worst);
 }
 
 TEST(LawsSimd, DoubleAndDouble8AgreeBitwise) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 
 #include "kernels/materials.hpp"
@@ -1019,6 +1020,108 @@ TEST(MaterialHjc, WaveSpeedFollowsTheUnloadingModulus) {
   const double F = (0.05 - kMuc) / (kMul - kMuc);
   EXPECT_NEAR(fracta::hjc_wave_speed(pt.m, pt.state),
               std::sqrt(((1 - F) * Ke + F * kK1 + 4.0 / 3.0 * kG) / rho), 1e-9);
+}
+
+// The batched elastic step (hjc_elastic_update, the element kernel's path for most hjc points)
+// against the full update (oracle: detail::hjc_update): random states, elastic and crushed,
+// damaged and not, in compression and in tension, with and without a raised tension limit, and
+// increments that stay elastic or yield or crush. Where it takes a point, the stress, the state
+// and the wave speed are the full update's to the bit and the full update dissipates nothing;
+// it must take the points well inside the strength (a point at rest under a small increment).
+// With SIMD lanes (Double8), each lane is the double's result to the bit.
+struct HjcDraw {
+  double deps[3], deps_zz, s[4], state[3], factor;
+};
+HjcDraw draw_hjc_point(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  HjcDraw d{};
+  const double step = u(rng) < 0.5 ? 2e-6 : 4e-4;  // elastic-sized, or large enough to flow
+  for (double& e : d.deps) e = step * (2 * u(rng) - 1);
+  d.deps_zz = u(rng) < 0.5 ? 0.0 : step * (2 * u(rng) - 1);
+  const double mu = -2e-4 + 0.02 * u(rng) * u(rng);
+  d.state[fracta::kLawDamage] = u(rng) < 0.4 ? 0.0 : 0.6 * u(rng);
+  d.state[fracta::kHjcMu] = mu;
+  d.state[fracta::kHjcMuMax] = u(rng) < 0.5 ? std::max(mu, 0.0) : mu + 0.01 * u(rng);
+  const double p = -3e6 + 60e6 * u(rng), dev = (u(rng) < 0.5 ? 2e6 : 40e6) * u(rng);
+  d.s[0] = -p + dev, d.s[1] = -p - 0.5 * dev, d.s[2] = -p - 0.5 * dev, d.s[3] = 0.3 * dev;
+  d.factor = u(rng) < 0.7 ? 1.0 : 1.0 + 2.0 * u(rng);
+  return d;
+}
+
+// Bit for bit in the Release build; the sanitizer build (-O2) may contract products into FMAs
+// differently in the two paths, so there within 16 ulps.
+void expect_same(double a, double b, int i) {
+#ifdef FRACTA_SANITIZE_BUILD
+  EXPECT_NEAR(a, b, 16 * std::numeric_limits<double>::epsilon() * std::fabs(b)) << i;
+#else
+  EXPECT_EQ(a, b) << i;
+#endif
+}
+
+TEST(MaterialHjc, BatchedElasticStepIsTheFullUpdateWhereItIsTaken) {
+  const MaterialLaw m = hjc_concrete();
+  std::mt19937 rng(29);
+  int taken_count = 0, flowing_count = 0;
+  const int n = 4000;
+  for (int i = 0; i < n; ++i) {
+    const HjcDraw d = draw_hjc_point(rng);
+    double s_new[4], mu, mu_max, wave_speed;
+    const bool taken = fracta::hjc_elastic_update(m, d.deps, d.deps_zz, d.s, d.state, d.factor,
+                                                  s_new, mu, mu_max, wave_speed);
+    double s[4] = {d.s[0], d.s[1], d.s[2], d.s[3]}, state[3] = {d.state[0], d.state[1], d.state[2]};
+    double epeq = 0.0;
+    const MaterialLaw law = d.factor != 1.0 ? fracta::detail::with_tension_factor(m, d.factor) : m;
+    const double work = fracta::detail::hjc_update(law, d.deps, d.deps_zz, s, epeq, state, 50.0);
+    if (epeq > 0.0 || state[fracta::kLawDamage] != d.state[fracta::kLawDamage]) ++flowing_count;
+    if (!taken) continue;
+    ++taken_count;
+    EXPECT_EQ(work, 0.0) << i;
+    EXPECT_EQ(epeq, 0.0) << i;
+    for (int k = 0; k < 4; ++k) expect_same(s_new[k], s[k], i);
+    EXPECT_EQ(state[fracta::kLawDamage], d.state[fracta::kLawDamage]) << i;
+    expect_same(mu, state[fracta::kHjcMu], i);
+    expect_same(mu_max, state[fracta::kHjcMuMax], i);
+    expect_same(wave_speed, fracta::hjc_wave_speed(law, state), i);
+  }
+  // Both kinds are drawn: about half the points flow or crush, and most of the rest are taken.
+  EXPECT_GT(flowing_count, n / 5);
+  EXPECT_GT(taken_count, n / 4);
+  std::printf("hjc batched step: %d of %d points taken, %d flow or crush\n", taken_count, n,
+              flowing_count);
+
+  // A point at rest under a small increment is taken, with the full update's stress.
+  const double deps[3] = {1e-6, -2e-6, 5e-7}, rest[4] = {0, 0, 0, 0}, fresh[3] = {0, 0, 0};
+  double s_new[4], mu, mu_max, wave_speed;
+  EXPECT_TRUE(
+      fracta::hjc_elastic_update(m, deps, 0.0, rest, fresh, 1.0, s_new, mu, mu_max, wave_speed));
+
+#ifdef FRACTA_HOST_SIMD
+  using fracta::Double8;
+  for (int round = 0; round < 200; ++round) {
+    HjcDraw lane[8];
+    Double8 deps8[3], deps_zz8, s8[4], state8[3], factor8;
+    for (int l = 0; l < 8; ++l) {
+      lane[l] = draw_hjc_point(rng);
+      for (int k = 0; k < 3; ++k) deps8[k][l] = lane[l].deps[k], state8[k][l] = lane[l].state[k];
+      for (int k = 0; k < 4; ++k) s8[k][l] = lane[l].s[k];
+      deps_zz8[l] = lane[l].deps_zz, factor8[l] = lane[l].factor;
+    }
+    Double8 s_new8[4], mu8, mu_max8, wave_speed8;
+    const auto taken8 = fracta::hjc_elastic_update(m, deps8, deps_zz8, s8, state8, factor8, s_new8,
+                                                   mu8, mu_max8, wave_speed8);
+    for (int l = 0; l < 8; ++l) {
+      const HjcDraw& d = lane[l];
+      const bool taken = fracta::hjc_elastic_update(m, d.deps, d.deps_zz, d.s, d.state, d.factor,
+                                                    s_new, mu, mu_max, wave_speed);
+      ASSERT_EQ(taken8[l] != 0, taken) << round << " lane " << l;
+      if (!taken) continue;
+      for (int k = 0; k < 4; ++k) expect_same(s_new8[k][l], s_new[k], round);
+      expect_same(mu8[l], mu, round);
+      expect_same(mu_max8[l], mu_max, round);
+      expect_same(wave_speed8[l], wave_speed, round);
+    }
+  }
+#endif
 }
 
 // ---------------------------------------------------------------------------------------------
