@@ -172,10 +172,15 @@ TEST(TaylorImpact, RodOnRodMatchesRodOnARigidWall) {
   const auto lower = shape_of(sim, -gap, false);
   EXPECT_NEAR(upper[0], expected[0], 0.005 * expected[0]);
   EXPECT_NEAR(upper[1], expected[1], 0.02 * expected[1]);
-  // Mirror images, to round-off in the contact (host path: 1e-5). On the device path the order
-  // of the atomic sums changes from run to run and the plastic flow carries it on: the
-  // footprints differ by 5.9e-6 in most runs, up to 1.4e-5 in one of about 90.
+  // Mirror images, to round-off in the contact, which the plastic flow carries on (host path,
+  // Release: footprints 4.7e-6 apart; tolerance 1e-5). On the device path the order of the
+  // atomic sums changes from run to run: 5.9e-6 in most runs, up to 1.4e-5 in one of about 90.
+  // The sanitizer build (-O2) contracts products into FMAs differently: 1.49e-5. Those: 5e-5.
+#ifdef FRACTA_SANITIZE_BUILD
+  const double mirror = 5e-5;
+#else
   const double mirror = kAtomicScatter ? 5e-5 : 1e-5;
+#endif
   EXPECT_NEAR(lower[0], upper[0], mirror * upper[0]);
   EXPECT_NEAR(lower[1], upper[1], mirror * upper[1]);
   EXPECT_LT(drift, 1e-12 * p_scale);
