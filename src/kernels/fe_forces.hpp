@@ -174,9 +174,10 @@ using FeStepReducer = FeStepReducerIn<HostSpace>;
 // (1981) (exact element averages), plus hourglass control. QP = 4: 2x2 Gauss, no hourglass.
 //
 // A work item is a batch of kLanes consecutive active elements (simd.hpp: 8 on CPUs, 1 on
-// GPUs). When they share a material the batch runs as one element of type LaneDouble, each
-// value holding the eight elements' values; otherwise (and for the tail of the range) element
-// by element as double. The element code is the same for both (element<T>). The material
+// GPUs), run in groups of kNativeLanes (8 with AVX-512, else 4; simd.hpp, NativeDouble). When
+// a group's elements share a material it runs as one element of type NativeDouble, each value
+// holding the group's values; otherwise (and for the tail of the range) element by element as
+// double. The element code is the same for both (element<T>). The material
 // update is the one part that branches per element: every lane takes the elastic trial, and
 // the lanes that may_leave_elastic marks (yielding, or near the conversion stresses) redo the
 // whole update_stress one at a time, since return mappings iterate (hjc, whose pressure is not
@@ -238,22 +239,25 @@ struct FeForces {
     for (int first = begin; first < end; first += kLanes) batch(first, end, acc);
   }
 
-  // The batch of active positions [first, min(first + kLanes, end)).
+  // The batch of active positions [first, min(first + kLanes, end)), by groups of kNativeLanes.
   KOKKOS_INLINE_FUNCTION void batch(const int first, const int end, FeStepSums& acc) const {
-    if constexpr (kLanes > 1) {
-      if (first + kLanes <= end) {
-        const int material = elements.material(elements.active(first));
-        bool uniform = true;
-        for (int l = 1; l < kLanes; ++l)
-          uniform = uniform && elements.material(elements.active(first + l)) == material;
-        if (uniform) {
-          element<LaneDouble>(first, acc);
-          return;
+    const int last = min_(first + kLanes, end);
+    for (int group = first; group < last; group += kNativeLanes) {
+      if constexpr (kNativeLanes > 1) {
+        if (group + kNativeLanes <= last) {
+          const int material = elements.material(elements.active(group));
+          bool uniform = true;
+          for (int l = 1; l < kNativeLanes; ++l)
+            uniform = uniform && elements.material(elements.active(group + l)) == material;
+          if (uniform) {
+            element<NativeDouble>(group, acc);
+            continue;
+          }
         }
       }
+      const int group_end = min_(group + kNativeLanes, last);
+      for (int i = group; i < group_end; ++i) element<double>(i, acc);
     }
-    const int last = min_(first + kLanes, end);
-    for (int i = first; i < last; ++i) element<double>(i, acc);
   }
 
   // The lanes of a batch: L = LaneCount<T> active elements of one material from active position
@@ -473,14 +477,22 @@ struct FeForces {
     T epeq = load_lanes<T>(elements.epeq.data(), q, q_consecutive);
     const T volume_old = load_lanes<T>(elements.qp_volume.data(), q, q_consecutive);
     const T viscosity_old = load_lanes<T>(elements.bulk_viscosity.data(), q, q_consecutive);
-    // The dynamic increase factor of the tension cut-off (1: none).
+    // The dynamic increase factor of the tension cut-off (1: none). hjc takes it only where its
+    // step depends on it (hjc_batch_update): its conversion is by damage, so nothing reads an hjc
+    // element's kept factor.
     T factor = splat<T>(1.0);
+    PendingFactor<T, L> pending{nullptr, lanes, g, bx, by, volume / weight};
     if (tension_rates.extent(0) > 0) {
       const RateLaw& rate = tension_rates(elements.material(lanes.e[0]));
-      if (rate.active()) factor = tension_factor_of(rate, lanes, g, bx, by, volume / weight);
+      if (rate.active()) {
+        if (mat.model == kHjc)
+          pending.rate = &rate;
+        else
+          factor = tension_factor_of(rate, lanes, g, bx, by, volume / weight, true);
+      }
     }
-    const auto full_update =
-        update_point_stress(mat, l, hoop_rate, volume, volume_old, s, epeq, sum, factor, q);
+    const auto full_update = update_point_stress(mat, l, hoop_rate, volume, volume_old, s, epeq,
+                                                 sum, factor, pending, q);
     if (conversion_pending.data() != nullptr) {
       flag_conversion(mat, s, epeq, factor, sum.convert);
       if (mat.conversion_damage > 0.0)
@@ -525,6 +537,18 @@ struct FeForces {
     }
   }
 
+  // The inputs of tension_factor_of at a point, for a factor taken only where a step needs it
+  // (hjc_batch_update); rate nullptr: none pending.
+  template <class T, int L>
+  struct PendingFactor {
+    const RateLaw* rate;
+    const ElementLanes<L>& lanes;
+    int g;
+    const T (&bx)[4];
+    const T (&by)[4];
+    T depth;
+  };
+
   // The stress s (xx, yy, zz, xy) and epeq of a point after the step of velocity gradient l
   // (materials.hpp), its plastic and stress work added to the sums; returns the lanes that took
   // the full update. The strain increment is measured at the mid-step configuration, so it is
@@ -536,11 +560,13 @@ struct FeForces {
   // near the conversion stresses) redo the whole update_stress one at a time, since return
   // mappings iterate.
   // q: the lanes' point indices, for the state of laws that have one (Elements::law_state).
+  // factor: the lanes' tension factor; set here where pending (hjc) and the step needs it.
   template <class T, int L>
   KOKKOS_FORCEINLINE_FUNCTION auto update_point_stress(const MaterialLaw& mat, const T (&l)[4],
                                                        const T& hoop_rate, const T& volume,
                                                        const T& volume_old, T (&s)[4], T& epeq,
-                                                       ElementSums<T>& sum, const T& factor,
+                                                       ElementSums<T>& sum, T& factor,
+                                                       const PendingFactor<T, L>& pending,
                                                        const int (&q)[L]) const {
     static_assert(L == LaneCount<T>::value, "one point index per lane");
     T rot_c, rot_s;  // the half-step rotation, used twice
@@ -552,7 +578,7 @@ struct FeForces {
     using Mask = decltype(!all_lanes<T>());
     Mask full_update;
     if (mat.model == kHjc) {
-      full_update = hjc_batch_update(mat, deps, deps_zz, s, sum.wave_speed, factor, q);
+      full_update = hjc_batch_update(mat, deps, deps_zz, s, sum.wave_speed, factor, pending, q);
     } else {
       if constexpr (Axisymmetric)
         elastic_increment_3d(mat, deps, deps_zz, s);
@@ -606,13 +632,18 @@ struct FeForces {
   // factor; returns the others, for hjc_update one at a time. Most of a
   // concrete target is elastic in most steps, and the one-at-a-time update's power, logarithm and
   // lane traffic cost three times the rest of the element (docs/performance.md).
+  // With a factor pending (a rate table), the step is first taken with the factor 1: where every
+  // lane's step is then the same for any factor (factor_free; the table's factors are at least 1,
+  // case.cpp), as in most steps of most points, the factor is not needed. Otherwise it is taken
+  // (tension_factor_of) and the step redone with it.
   template <class T, int L>
   KOKKOS_FORCEINLINE_FUNCTION auto hjc_batch_update(const MaterialLaw& mat, const T (&deps)[3],
                                                     const T& deps_zz, T (&s)[4], T& wave_speed,
-                                                    const T& factor, const int (&q)[L]) const {
+                                                    T& factor, const PendingFactor<T, L>& pending,
+                                                    const int (&q)[L]) const {
     static_assert(kLawStateSize == 3, "the state moves as triples");
     // Elements::law_state is LayoutRight ([n][3], rows of 3) wherever the element kernel runs in
-    // lanes of 8 (host); on GPUs (one lane) any layout.
+    // SIMD lanes (host); on GPUs (one lane) any layout.
     T state[kLawStateSize];
     const bool rows_of_three = elements.law_state.stride_0() == 3;
     if (rows_of_three) {
@@ -623,8 +654,15 @@ struct FeForces {
         state[c] = gather_lanes<T>(&elements.law_state(0, c), q, stride);
     }
     T s_new[4], mu, mu_max, point_wave_speed;
-    const auto taken = hjc_elastic_update(mat, deps, deps_zz, s, state, factor, s_new, mu, mu_max,
-                                          point_wave_speed);
+    auto factor_free = !all_lanes<T>();
+    auto taken = hjc_elastic_update(mat, deps, deps_zz, s, state, factor, s_new, mu, mu_max,
+                                    point_wave_speed, factor_free);
+    if (pending.rate != nullptr && any_lane(!factor_free)) {
+      factor = tension_factor_of(*pending.rate, pending.lanes, pending.g, pending.bx, pending.by,
+                                 pending.depth, false);
+      taken = hjc_elastic_update(mat, deps, deps_zz, s, state, factor, s_new, mu, mu_max,
+                                 point_wave_speed, factor_free);
+    }
     if (!any_lane(taken)) return !taken;
     for (int c = 0; c < 4; ++c) s[c] = taken ? s_new[c] : s[c];
     wave_speed = taken ? max_(wave_speed, point_wave_speed) : wave_speed;
@@ -696,12 +734,12 @@ struct FeForces {
   // table's strength factor at the largest principal strain rate (1/s, 0 in compression; in
   // plane, and axisymmetric also the hoop rate v_r / r at the point's radius, depth / 2 pi) of
   // the filtered velocities (filter_velocities, bond_forces.hpp) over the point's gradients bx,
-  // by. Each element keeps the smallest over its points in tension_factor, which the conversion
-  // criterion reads, so a point held at its raised cut-off converts.
+  // by. With keep, each element keeps the smallest over its points in tension_factor, which the
+  // conversion criterion reads, so a point held at its raised cut-off converts.
   template <class T, int L>
   KOKKOS_FORCEINLINE_FUNCTION T tension_factor_of(const RateLaw& rate, const ElementLanes<L>& lanes,
                                                   const int g, const T (&bx)[4], const T (&by)[4],
-                                                  const T& depth) const {
+                                                  const T& depth, const bool keep) const {
     // The filtered velocities of the corners, and their gradient.
     T vx[4], vy[4], l[4];
     gather_corner_pairs(lanes, v_filtered, vx, vy);
@@ -719,6 +757,7 @@ struct FeForces {
     }
     const T rate_now = max_(largest, splat<T>(0.0));
     const T factor = rate.strength_factor(rate_now);
+    if (!keep) return factor;
     const T kept =
         g == 0 ? factor
                : min_(load_lanes<T>(elements.tension_factor.data(), lanes.e, lanes.consecutive),
@@ -795,7 +834,7 @@ struct FeForces {
   // ---- Scatter --------------------------------------------------------------------------------
 
   // The lanes' corner forces added into nodes.f. Along a row (CPU chunk path): node n0 + l takes
-  // corner 0 of lane l and corner 1 of lane l - 1, and n0 + 8 corner 1 of lane 7 (likewise m0
+  // corner 0 of lane l and corner 1 of lane l - 1, and n0 + L corner 1 of lane L - 1 (likewise m0
   // with corners 3 and 2). Otherwise element by element in lane order, so a node shared by two
   // lanes sums them in element order.
   template <class T, int L>

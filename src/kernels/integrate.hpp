@@ -13,47 +13,50 @@
 namespace fracta {
 
 #ifdef FRACTA_HOST_SIMD
-// The translation state of eight consecutive nodes as Double8 lanes (the CPU form of the kicks):
-// the interleaved (x, y) rows by two vector loads each (load_pairs) instead of a scalar load per
-// value; the work summed per lane. store() writes v back and, after a drift, x, and clears the
-// force accumulators.
-struct EightNodes {
-  Double8 x[2], v[2], f[2], f_ext[2], inv_m, work;
-  Mask8 fixed[2];
+// The translation state of L = LaneCount<V> consecutive nodes as lanes of V (the CPU form of the
+// kicks; NativeDouble, simd.hpp): the interleaved (x, y) rows by two vector loads each
+// (load_pairs) instead of a scalar load per value; the work summed per lane. store() writes v back
+// and, after a drift, x, and clears the force accumulators.
+template <class V>
+struct NodeLanes {
+  static constexpr int L = LaneCount<V>::value;
+  using Ints = IntLanes<L>;
+  using Mask = decltype(V{} < 0.0);
+  V x[2], v[2], f[2], f_ext[2], inv_m, work;
+  Mask fixed[2];
 
-  EightNodes(const Nodes& nodes, const int first, const bool drift) {
+  NodeLanes(const Nodes& nodes, const int first, const bool drift) {
     if (drift) load_pairs(&nodes.x(first, 0), x[0], x[1]);
     load_pairs(&nodes.v(first, 0), v[0], v[1]);
     load_pairs(&nodes.f(first, 0), f[0], f[1]);
     load_pairs(&nodes.f_ext(first, 0), f_ext[0], f_ext[1]);
-    Double8 mass;
+    V mass;
     __builtin_memcpy(&mass, &nodes.mass(first), sizeof mass);
     inv_m = 1.0 / mass;
-    const Int8 fix = load_ints8(&nodes.fixed(first));
+    const typename Ints::type fix = Ints::load(&nodes.fixed(first));
     fixed[0] = widen((fix & int{kFixX}) != 0);
     fixed[1] = widen((fix & int{kFixY}) != 0);
-    work = splat<Double8>(0.0);
+    work = splat<V>(0.0);
   }
   void store(const Nodes& nodes, const int first, const bool drift) const {
     store_pairs(&nodes.v(first, 0), v[0], v[1]);
     if (!drift) return;
     store_pairs(&nodes.x(first, 0), x[0], x[1]);
-    __builtin_memset(&nodes.f(first, 0), 0, 16 * sizeof(double));
+    __builtin_memset(&nodes.f(first, 0), 0, 2 * L * sizeof(double));
     // Most nodes carry no load: leave their (zero) lines clean rather than rewrite them.
     if (any_lane(f_ext[0] != 0.0 || f_ext[1] != 0.0))
-      __builtin_memset(&nodes.f_ext(first, 0), 0, 16 * sizeof(double));
+      __builtin_memset(&nodes.f_ext(first, 0), 0, 2 * L * sizeof(double));
   }
-  // Whether one of the eight is a disc (else their rotation update is clearing the moments).
+  // Whether one of the L is a disc (else their rotation update is clearing the moments).
   static bool any_particle(const Nodes& nodes, const int first) {
-    const Int8 particle = load_ints8(&nodes.particle(first));
-    return !all_set(particle == 0);
+    return !all_set(Ints::load(&nodes.particle(first)) == 0);
   }
   static void clear_moments(const Nodes& nodes, const int first) {
-    __builtin_memset(&nodes.moment(first), 0, 8 * sizeof(double));
+    __builtin_memset(&nodes.moment(first), 0, L * sizeof(double));
   }
   double work_sum() const {
     double sum = 0.0;
-    for (int l = 0; l < 8; ++l) sum += work[l];
+    for (int l = 0; l < L; ++l) sum += work[l];
     return sum;
   }
 };
@@ -62,7 +65,7 @@ struct EightNodes {
 // One half kick per node. First half (Drift = true): kick, drift, and zero the force and
 // moment accumulators for the next force evaluation; the external work uses v(n+1/2) . f_ext(n).
 // Second half: the work uses v(n+1/2) . f_ext(n+1), then the kick. Returns that work (J).
-// Run by NodeBatches (below): node by node, or eight nodes as Double8 lanes on CPUs.
+// Run by NodeBatches (below): node by node, or groups of nodes as NativeDouble lanes on CPUs.
 template <bool Drift>
 struct HalfKick {
   static constexpr bool drift = Drift;  // moves x, clears the accumulators
@@ -71,7 +74,7 @@ struct HalfKick {
   bool rotations;     // the scene has particles (their views are allocated)
   bool lanes = true;  // false: node by node (tests)
 
-  // The translation update of one node, or of eight (T = Double8, Fixed = its lane mask).
+  // The translation update of one node, or of a group (T = NativeDouble, Fixed = its lane mask).
   template <class T, class Fixed>
   KOKKOS_INLINE_FUNCTION void translate(T (&x)[2], T (&v)[2], const T (&f)[2], const T (&f_ext)[2],
                                         const T& inv_m, const Fixed (&fixed)[2], T& w) const {
@@ -118,11 +121,11 @@ KOKKOS_INLINE_FUNCTION void kicked_velocity(const Nodes& nodes, const int n, con
 // use the forces of the last evaluation), read and written once. Returns the two halves'
 // external work (J).
 //
-// A work item is kLanes consecutive nodes (simd.hpp: 8 on CPUs, 1 on GPUs). On CPUs eight nodes
-// run as one of Double8 lanes: their interleaved (x, y) rows come by two vector loads each
-// (load_pairs) instead of one scalar load per value, and the work is summed per lane. The nodes'
-// states are those of the node-by-node pass; only the external work's rounding differs (the sum's
-// order), as it differs between thread counts.
+// A work item is kLanes consecutive nodes (simd.hpp: 8 on CPUs, 1 on GPUs). On CPUs a group of
+// nodes runs as one of NativeDouble lanes: their interleaved (x, y) rows come by two vector loads
+// each (load_pairs) instead of one scalar load per value, and the work is summed per lane. The
+// nodes' states are those of the node-by-node pass; only the external work's rounding differs (the
+// sum's order), as it differs between thread counts.
 struct KickKickDrift {
   static constexpr bool drift = true;
   Nodes nodes;
@@ -130,7 +133,7 @@ struct KickKickDrift {
   bool rotations;
   bool lanes = true;  // false: node by node (tests)
 
-  // The translation update of one node, or of eight (T = Double8, Fixed = its lane mask).
+  // The translation update of one node, or of a group (T = NativeDouble, Fixed = its lane mask).
   template <class T, class Fixed>
   KOKKOS_INLINE_FUNCTION void translate(T (&x)[2], T (&v)[2], const T (&f)[2], const T (&f_ext)[2],
                                         const T& inv_m, const Fixed (&fixed)[2], T& w) const {
@@ -161,7 +164,7 @@ struct KickKickDrift {
 };
 
 // Runs a kick (HalfKick, KickKickDrift: its translate() and rotate()) over the nodes in work
-// items of kLanes consecutive nodes (simd.hpp: 8 on CPUs, 1 on GPUs): eight() on CPUs where the
+// items of kLanes consecutive nodes (simd.hpp: 8 on CPUs, 1 on GPUs): lanes() on CPUs where the
 // node rows are interleaved (LayoutRight), node() for the tail and elsewhere. run_kick returns
 // the summed external work (J).
 template <class Kick>
@@ -193,18 +196,21 @@ struct NodeBatches {
   }
 
 #ifdef FRACTA_HOST_SIMD
-  // Nodes first .. first + 7.
-  void eight(const int first, double& w) const {
+  // Nodes first .. first + kLanes - 1, by groups of kNativeLanes.
+  void lanes(const int first, double& w) const {
     const Nodes& nodes = kick.nodes;
-    EightNodes e(nodes, first, Kick::drift);
-    kick.translate(e.x, e.v, e.f, e.f_ext, e.inv_m, e.fixed, e.work);
-    e.store(nodes, first, Kick::drift);
-    w += e.work_sum();
-    if (kick.rotations) {
-      if (EightNodes::any_particle(nodes, first)) {
-        for (int n = first; n < first + 8; ++n) kick.rotate(n);
-      } else if (Kick::drift) {
-        EightNodes::clear_moments(nodes, first);
+    using Group = NodeLanes<NativeDouble>;
+    for (int group = first; group < first + kLanes; group += kNativeLanes) {
+      Group e(nodes, group, Kick::drift);
+      kick.translate(e.x, e.v, e.f, e.f_ext, e.inv_m, e.fixed, e.work);
+      e.store(nodes, group, Kick::drift);
+      w += e.work_sum();
+      if (kick.rotations) {
+        if (Group::any_particle(nodes, group)) {
+          for (int n = group; n < group + kNativeLanes; ++n) kick.rotate(n);
+        } else if (Kick::drift) {
+          Group::clear_moments(nodes, group);
+        }
       }
     }
   }
@@ -216,7 +222,7 @@ struct NodeBatches {
 #ifdef FRACTA_HOST_SIMD
     if (kick.lanes && first + kLanes <= nodes.count && nodes.x.stride_0() == 2 &&
         nodes.v.stride_0() == 2 && nodes.f.stride_0() == 2 && nodes.f_ext.stride_0() == 2) {
-      eight(first, w);
+      lanes(first, w);
       return;
     }
 #endif

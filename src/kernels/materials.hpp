@@ -801,7 +801,10 @@ KOKKOS_INLINE_FUNCTION bool has_law_state(int model) {
 // K_e times stiffer than the intact one, which the element's stable step must follow.
 KOKKOS_INLINE_FUNCTION double hjc_wave_speed(const MaterialLaw& m, const double state[3]) {
   const double k = detail::hjc_tangent_bulk_modulus(m.hjc, state[kHjcMu], state[kHjcMuMax]);
-  return sqrt_((k + 4.0 / 3.0 * m.shear_modulus) / m.density);
+  // K / rho + (4G/3) / rho: no product next to the sum, which a compiler could contract into an
+  // FMA in one build of this and not in another (the SIMD lanes' hjc_elastic_update must give
+  // the same bits).
+  return sqrt_(k / m.density + 4.0 / 3.0 * m.shear_modulus / m.density);
 }
 
 // detail::hjc_update where it is elastic, for one point per lane (T: double, or simd.hpp's lane
@@ -815,11 +818,16 @@ KOKKOS_INLINE_FUNCTION double hjc_wave_speed(const MaterialLaw& m, const double 
 // tension branch itself; and when mu_max grows no further than mu_crush (no plastic volume) and
 // the point is short of the dense curve. A law whose B or C is negative, or whose EF_min is not
 // positive (a 0 / 0 damage increment), takes no lane.
-template <class T>
+// factor_free: the lanes taken whose pressure is at or above the tension limit: their step is
+// the same, to the bit, for any larger tension_factor (a larger factor lowers the limit, so it
+// still does not bind, and only raises the tension branch's strength, so the lane is still
+// taken; the rest of the step does not depend on it).
+template <class T, class Mask>
 KOKKOS_FORCEINLINE_FUNCTION auto hjc_elastic_update(const MaterialLaw& m, const T deps[3],
                                                     const T& deps_zz, const T s[4],
                                                     const T state[3], const T& tension_factor,
-                                                    T s_new[4], T& mu, T& mu_max, T& wave_speed) {
+                                                    T s_new[4], T& mu, T& mu_max, T& wave_speed,
+                                                    Mask& factor_free) {
   const HjcParams& h = m.hjc;
   const double G = m.shear_modulus;
   const T zero = splat<T>(0.0);
@@ -835,12 +843,12 @@ KOKKOS_FORCEINLINE_FUNCTION auto hjc_elastic_update(const MaterialLaw& m, const 
   const T p_max =
       below_crush ? k_elastic * max_(mu_env, zero) : h.p_crush + (h.p_lock - h.p_crush) * f;
   const T k_unload = below_crush ? splat<T>(k_elastic) : (1.0 - f) * k_elastic + f * h.k1;
-  T p = p_max - k_unload * (mu_env - mu);
+  const T p_envelope = p_max - k_unload * (mu_env - mu);
   const T damage = state[0];
   // with_tension_factor's raised limit T.
   const T t = h.t * tension_factor;
   const T tension_limit = t * (1.0 - damage);
-  p = max_(p, -tension_limit);
+  const T p = max_(p_envelope, -tension_limit);
   const T p_old = -(s[0] + s[1] + s[2]) / 3.0;
   const T e_mean = tr / 3.0;
   const T d[4] = {s[0] + p_old + 2.0 * G * (deps[0] - e_mean),
@@ -858,9 +866,21 @@ KOKKOS_FORCEINLINE_FUNCTION auto hjc_elastic_update(const MaterialLaw& m, const 
       (q <= strength_low) && !dense && (!(mu_max > state[2]) || mu_max <= h.mu_crush);
   for (int k = 0; k < 3; ++k) s_new[k] = d[k] - p;
   s_new[3] = d[3];
-  wave_speed = sqrt_((k_unload + 4.0 / 3.0 * G) / m.density);
+  wave_speed = sqrt_(k_unload / m.density + 4.0 / 3.0 * G / m.density);  // as hjc_wave_speed
   const bool bound_holds = h.b >= 0.0 && h.c >= 0.0 && h.ef_min > 0.0;
-  return bound_holds ? taken : !all_lanes<T>();
+  const auto taken_lanes = bound_holds ? taken : !all_lanes<T>();
+  factor_free = taken_lanes && p_envelope >= -tension_limit;
+  return taken_lanes;
+}
+// The same without factor_free.
+template <class T>
+KOKKOS_FORCEINLINE_FUNCTION auto hjc_elastic_update(const MaterialLaw& m, const T deps[3],
+                                                    const T& deps_zz, const T s[4],
+                                                    const T state[3], const T& tension_factor,
+                                                    T s_new[4], T& mu, T& mu_max, T& wave_speed) {
+  auto factor_free = !all_lanes<T>();
+  return hjc_elastic_update(m, deps, deps_zz, s, state, tension_factor, s_new, mu, mu_max,
+                            wave_speed, factor_free);
 }
 
 // P-wave speed (m/s) of a point of a law with a state: hjc_wave_speed, or the law's own.

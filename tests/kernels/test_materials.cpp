@@ -1028,7 +1028,7 @@ TEST(MaterialHjc, WaveSpeedFollowsTheUnloadingModulus) {
 // increments that stay elastic or yield or crush. Where it takes a point, the stress, the state
 // and the wave speed are the full update's to the bit and the full update dissipates nothing;
 // it must take the points well inside the strength (a point at rest under a small increment).
-// With SIMD lanes (Double8), each lane is the double's result to the bit.
+// With SIMD lanes (Double4 and Double8), each lane is the double's result to the bit.
 struct HjcDraw {
   double deps[3], deps_zz, s[4], state[3], factor;
 };
@@ -1057,6 +1057,43 @@ void expect_same(double a, double b, int i) {
   EXPECT_EQ(a, b) << i;
 #endif
 }
+
+#ifdef FRACTA_HOST_SIMD
+// Lanes of V (both widths, whatever the machine's own) against the double's result, lane by
+// lane: taken, the stress, the state, the wave speed and factor_free.
+template <class V>
+void expect_lanes_as_double(const MaterialLaw& m, std::mt19937& rng) {
+  constexpr int L = fracta::LaneCount<V>::value;
+  for (int round = 0; round < 200; ++round) {
+    HjcDraw lane[L];
+    V deps_v[3], deps_zz_v, s_v[4], state_v[3], factor_v;
+    for (int l = 0; l < L; ++l) {
+      lane[l] = draw_hjc_point(rng);
+      for (int k = 0; k < 3; ++k) deps_v[k][l] = lane[l].deps[k], state_v[k][l] = lane[l].state[k];
+      for (int k = 0; k < 4; ++k) s_v[k][l] = lane[l].s[k];
+      deps_zz_v[l] = lane[l].deps_zz, factor_v[l] = lane[l].factor;
+    }
+    V s_new_v[4], mu_v, mu_max_v, wave_speed_v;
+    auto free_v = !fracta::all_lanes<V>();
+    const auto taken_v = fracta::hjc_elastic_update(m, deps_v, deps_zz_v, s_v, state_v, factor_v,
+                                                    s_new_v, mu_v, mu_max_v, wave_speed_v, free_v);
+    for (int l = 0; l < L; ++l) {
+      const HjcDraw& d = lane[l];
+      double s_new[4], mu, mu_max, wave_speed;
+      bool factor_free = false;
+      const bool taken = fracta::hjc_elastic_update(m, d.deps, d.deps_zz, d.s, d.state, d.factor,
+                                                    s_new, mu, mu_max, wave_speed, factor_free);
+      ASSERT_EQ(taken_v[l] != 0, taken) << L << " lanes, round " << round << " lane " << l;
+      ASSERT_EQ(free_v[l] != 0, factor_free) << L << " lanes, round " << round << " lane " << l;
+      if (!taken) continue;
+      for (int k = 0; k < 4; ++k) expect_same(s_new_v[k][l], s_new[k], round);
+      expect_same(mu_v[l], mu, round);
+      expect_same(mu_max_v[l], mu_max, round);
+      expect_same(wave_speed_v[l], wave_speed, round);
+    }
+  }
+}
+#endif
 
 TEST(MaterialHjc, BatchedElasticStepIsTheFullUpdateWhereItIsTaken) {
   const MaterialLaw m = hjc_concrete();
@@ -1096,32 +1133,59 @@ TEST(MaterialHjc, BatchedElasticStepIsTheFullUpdateWhereItIsTaken) {
       fracta::hjc_elastic_update(m, deps, 0.0, rest, fresh, 1.0, s_new, mu, mu_max, wave_speed));
 
 #ifdef FRACTA_HOST_SIMD
-  using fracta::Double8;
-  for (int round = 0; round < 200; ++round) {
-    HjcDraw lane[8];
-    Double8 deps8[3], deps_zz8, s8[4], state8[3], factor8;
-    for (int l = 0; l < 8; ++l) {
-      lane[l] = draw_hjc_point(rng);
-      for (int k = 0; k < 3; ++k) deps8[k][l] = lane[l].deps[k], state8[k][l] = lane[l].state[k];
-      for (int k = 0; k < 4; ++k) s8[k][l] = lane[l].s[k];
-      deps_zz8[l] = lane[l].deps_zz, factor8[l] = lane[l].factor;
+  expect_lanes_as_double<fracta::Double4>(m, rng);
+  expect_lanes_as_double<fracta::Double8>(m, rng);
+#endif
+}
+
+// A step taken with the factor 1 and marked factor_free is the full update's with any larger
+// tension factor (oracle: detail::hjc_update with the raised limit), to the bit: the element
+// kernel then needs no rate factor for it (FeForces::hjc_batch_update). Both kinds occur: points
+// free of the factor, and points in tension that the raised limit keeps elastic, which need it.
+TEST(MaterialHjc, FactorFreeStepsAreTheSameForAnyLargerTensionFactor) {
+  const MaterialLaw m = hjc_concrete();
+  std::mt19937 rng(31);
+  int free_count = 0, raised_count = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const HjcDraw d = draw_hjc_point(rng);
+    double s_new[4], mu, mu_max, wave_speed;
+    bool factor_free = false;
+    const bool taken = fracta::hjc_elastic_update(m, d.deps, d.deps_zz, d.s, d.state, 1.0, s_new,
+                                                  mu, mu_max, wave_speed, factor_free);
+    if (factor_free) {
+      ASSERT_TRUE(taken) << i;
     }
-    Double8 s_new8[4], mu8, mu_max8, wave_speed8;
-    const auto taken8 = fracta::hjc_elastic_update(m, deps8, deps_zz8, s8, state8, factor8, s_new8,
-                                                   mu8, mu_max8, wave_speed8);
-    for (int l = 0; l < 8; ++l) {
-      const HjcDraw& d = lane[l];
-      const bool taken = fracta::hjc_elastic_update(m, d.deps, d.deps_zz, d.s, d.state, d.factor,
-                                                    s_new, mu, mu_max, wave_speed);
-      ASSERT_EQ(taken8[l] != 0, taken) << round << " lane " << l;
-      if (!taken) continue;
-      for (int k = 0; k < 4; ++k) expect_same(s_new8[k][l], s_new[k], round);
-      expect_same(mu8[l], mu, round);
-      expect_same(mu_max8[l], mu_max, round);
-      expect_same(wave_speed8[l], wave_speed, round);
+    if (!factor_free) {
+      double s_f[4], mu_f, mu_max_f, wave_f;
+      if (fracta::hjc_elastic_update(m, d.deps, d.deps_zz, d.s, d.state, 4.0, s_f, mu_f, mu_max_f,
+                                     wave_f))
+        ++raised_count;
+      continue;
+    }
+    ++free_count;
+    for (const double factor : {1.0, 1.3, 4.0, 10.65}) {
+      double s[4] = {d.s[0], d.s[1], d.s[2], d.s[3]};
+      double state[3] = {d.state[0], d.state[1], d.state[2]};
+      double epeq = 0.0;
+      const MaterialLaw law = fracta::detail::with_tension_factor(m, factor);
+      EXPECT_EQ(fracta::detail::hjc_update(law, d.deps, d.deps_zz, s, epeq, state, 50.0), 0.0);
+      for (int k = 0; k < 4; ++k) expect_same(s_new[k], s[k], i);
+      expect_same(mu, state[fracta::kHjcMu], i);
+      expect_same(mu_max, state[fracta::kHjcMuMax], i);
+      EXPECT_EQ(state[fracta::kLawDamage], d.state[fracta::kLawDamage]) << i;
+      // And the batched step itself, with the factor, takes it with the same result.
+      double s_f[4], mu_f, mu_max_f, wave_f;
+      ASSERT_TRUE(fracta::hjc_elastic_update(m, d.deps, d.deps_zz, d.s, d.state, factor, s_f, mu_f,
+                                             mu_max_f, wave_f))
+          << i;
+      for (int k = 0; k < 4; ++k) EXPECT_EQ(s_f[k], s_new[k]) << i;
+      EXPECT_EQ(wave_f, wave_speed) << i;
     }
   }
-#endif
+  EXPECT_GT(free_count, 500);
+  EXPECT_GT(raised_count, 20);
+  std::printf("hjc factor-free steps: %d of 4000; %d more taken with the factor 4\n", free_count,
+              raised_count);
 }
 
 // ---------------------------------------------------------------------------------------------
