@@ -481,7 +481,7 @@ struct FeForces {
     // step depends on it (hjc_batch_update): its conversion is by damage, so nothing reads an hjc
     // element's kept factor.
     T factor = splat<T>(1.0);
-    PendingFactor<T, L> pending{nullptr, lanes, g, bx, by, volume / weight};
+    PendingFactor<T, L> pending{nullptr, lanes, g, bx, by, volume, weight};
     if (tension_rates.extent(0) > 0) {
       const RateLaw& rate = tension_rates(elements.material(lanes.e[0]));
       if (rate.active()) {
@@ -546,7 +546,8 @@ struct FeForces {
     int g;
     const T (&bx)[4];
     const T (&by)[4];
-    T depth;
+    const T& volume;
+    const T& weight;  // depth = volume / weight, divided only when the factor is taken
   };
 
   // The stress s (xx, yy, zz, xy) and epeq of a point after the step of velocity gradient l
@@ -659,7 +660,7 @@ struct FeForces {
                                     point_wave_speed, factor_free);
     if (pending.rate != nullptr && any_lane(!factor_free)) {
       factor = tension_factor_of(*pending.rate, pending.lanes, pending.g, pending.bx, pending.by,
-                                 pending.depth, false);
+                                 pending.volume / pending.weight, false);
       taken = hjc_elastic_update(mat, deps, deps_zz, s, state, factor, s_new, mu, mu_max,
                                  point_wave_speed, factor_free);
     }

@@ -129,33 +129,11 @@ struct LaneCount<Double4> {
 
 // The lane types and their comparison masks, for the helpers written once for both widths.
 template <class V>
-struct IsLanes {
-  static constexpr bool value = false;
-};
-template <>
-struct IsLanes<Double8> {
-  static constexpr bool value = true;
-};
-template <>
-struct IsLanes<Double4> {
-  static constexpr bool value = true;
-};
+using if_lanes = typename std::enable_if<(LaneCount<V>::value > 1), int>::type;
 template <class M>
-struct IsLaneMask {
-  static constexpr bool value = false;
-};
-template <>
-struct IsLaneMask<Mask8> {
-  static constexpr bool value = true;
-};
-template <>
-struct IsLaneMask<Mask4> {
-  static constexpr bool value = true;
-};
-template <class V>
-using if_lanes = typename std::enable_if<IsLanes<V>::value, int>::type;
-template <class M>
-using if_lane_mask = typename std::enable_if<IsLaneMask<M>::value, int>::type;
+using if_lane_mask =
+    typename std::enable_if<std::is_same<M, Mask8>::value || std::is_same<M, Mask4>::value,
+                            int>::type;
 
 template <class V, if_lanes<V> = 0>
 KOKKOS_FORCEINLINE_FUNCTION double get_lane(const V& v, int l) {
