@@ -270,7 +270,7 @@ ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, const Topolo
     gather_built_ = true;
   }
   const ContactSums s = contact_forces(nodes, topo, pair_i_, pair_j_, pair_count_, law_, dt,
-                                       pair_joins_, gather_, into);
+                                       pair_joins_, gather_, into, rigid_surface_);
   Kokkos::Profiling::popRegion();
   return contact_step_result(s);
 }

@@ -108,6 +108,10 @@ class ContactSystem {
   // The contact discs' node ids, increasing: contact forces act on these nodes only.
   View<const int*> discs() const { return discs_; }
   const ContactLaw& law() const { return law_; }
+  // The surfaces of rigid bodies of revolution (contact_forces.hpp, RigidSurface): discs touch
+  // them as polygons. Default: none.
+  void set_rigid_surface(const RigidSurface& surface) { rigid_surface_ = surface; }
+  const RigidSurface& rigid_surface() const { return rigid_surface_; }
 
   // The candidate list and its reference positions, for checkpoints: a restart that rebuilt
   // the list at another step than the uninterrupted run would change the order of the force
@@ -175,6 +179,7 @@ class ContactSystem {
   double skin_ = 0;
   double max_speed_ = 0;  // m/s, the fastest disc at the last update
   ContactLaw law_;
+  RigidSurface rigid_surface_;
 };
 
 }  // namespace fracta

@@ -101,6 +101,8 @@ struct Model {
   // Rigid bodies and each node's offset from its body's centre of mass in the reference state.
   std::vector<RigidBody> rigid;
   View<double* [2]> rigid_offset;
+  // The surfaces of rigid bodies of revolution, for contact (build_rigid_surface); empty: none.
+  RigidSurface rigid_surface;
   std::vector<ProbeSite> probes;
   std::vector<BodyProbeSite> body_probes;
 };

@@ -105,6 +105,19 @@ inline void pending_pair_topology(const Topology& topo, const View<const int*>& 
       });
 }
 
+// The surfaces of rigid bodies of revolution (docs/physics.md 1.3, "Rigid bodies"): for each node
+// of [begin, end), its neighbours along its body's surface, previous and next in
+// counter-clockwise order (the body on the left), -1 where there is none (an interior node, a
+// node whose edges lie on the axis). A disc touches such a surface as the polygon it is, not as
+// a row of its nodes' discs, whose bumps would catch what slides along it. Empty: no such body.
+struct RigidSurface {
+  View<int* [2]> link;
+  int begin = 0, end = 0;
+  KOKKOS_INLINE_FUNCTION bool has(const int n) const {
+    return n >= begin && n < end && (link(n - begin, 0) >= 0 || link(n - begin, 1) >= 0);
+  }
+};
+
 struct ContactForceKernel {
   View<const int*> pair_i, pair_j;
   View<const int* [3]> joins;  // pair_topology; empty: ask Topology::joined
@@ -117,12 +130,20 @@ struct ContactForceKernel {
   ContactLaw law;
   double dt;
   View<double* [4]> pair_force;  // ContactGather::pair_force, or empty: add atomically
+  RigidSurface surface;
 
   KOKKOS_INLINE_FUNCTION void operator()(const int p, ContactSums& sums) const {
     const bool gather = pair_force.extent(0) > 0;
     if (gather)
       for (int c = 0; c < 4; ++c) pair_force(p, c) = 0.0;  // a pair out of contact adds nothing
     const int i = pair_i(p), j = pair_j(p);
+    if (surface.end > surface.begin) {
+      const bool on_i = surface.has(i), on_j = surface.has(j);
+      if (on_i != on_j) {
+        surface_pair(p, on_j ? i : j, on_j ? j : i, on_j, gather, sums);
+        return;
+      }
+    }
     const double dx = x(j, 0) - x(i, 0), dy = x(j, 1) - x(i, 1);
     const double ri = radius(i), rj = radius(j);
     const double d2 = dx * dx + dy * dy;
@@ -173,6 +194,92 @@ struct ContactForceKernel {
     sums.v[0] += ContactLaw::elastic_energy(k, delta);
     sums.v[1] += ContactLaw::dissipation(k, delta, delta_dot, vt, fn, fs, inv_m, inv_mt, dt);
     sums.v[2] += 1.0;
+  }
+
+  // Disc d against the surface of a rigid body of revolution near its node s (RigidSurface):
+  // the half of each of the two edges at s that is nearer s, and the corner s itself when d
+  // lies beyond both edges, so that every part of the surface belongs to exactly one pair of
+  // the candidate list (the node nearer the touching point is within reach of the search:
+  // its radius is at least half of each of its edges, build_rigid_surface). An edge pushes
+  // along its outward normal, a corner along the line from it to d. The rigid body counts as a
+  // wall for the law's damping and friction (its mass is that of the whole body) and takes the
+  // reaction at s: a body of revolution moves along the axis alone, so where along its surface
+  // a force acts does not matter to it. d_is_i: the pair is (d, s), else (s, d).
+  KOKKOS_INLINE_FUNCTION void surface_pair(const int p, const int d, const int s, const bool d_is_i,
+                                           const bool gather, ContactSums& sums) const {
+    const int wall = kFixX | kFixY;
+    if ((fixed(d) & wall) == wall) return;
+    const int prev = surface.link(s - surface.begin, 0), next = surface.link(s - surface.begin, 1);
+    const double rd = radius(d);
+    const double px = x(d, 0), py = x(d, 1);
+    // Projection of d on the edge a -> b: the parameter along it, unclamped.
+    const auto along = [&](const int a, const int b) {
+      const double ex = x(b, 0) - x(a, 0), ey = x(b, 1) - x(a, 1);
+      return ((px - x(a, 0)) * ex + (py - x(a, 1)) * ey) / (ex * ex + ey * ey);
+    };
+    double fx = 0.0, fy = 0.0, md = 0.0;
+    // One touching feature: the edge a -> b at parameter t in [0, 1] (corner: t = 0 or 1,
+    // pushing along the line from it).
+    const auto touch = [&](const int a, const int b, const double t, const bool corner) {
+      const double cx = x(a, 0) + t * (x(b, 0) - x(a, 0)), cy = x(a, 1) + t * (x(b, 1) - x(a, 1));
+      double nx, ny, gap;  // n: from d towards the surface; gap: d's centre to the surface
+      if (corner) {
+        const double gx = cx - px, gy = cy - py, g = sqrt_(gx * gx + gy * gy);
+        if (!(g < rd) || g <= 0.0) return;
+        nx = gx / g;
+        ny = gy / g;
+        gap = g;
+      } else {
+        const double ex = x(b, 0) - x(a, 0), ey = x(b, 1) - x(a, 1), e = sqrt_(ex * ex + ey * ey);
+        nx = -ey / e;  // minus the outward normal (ey, -ex) / e: the body is on the edge's left
+        ny = ex / e;
+        gap = -((px - cx) * nx + (py - cy) * ny);
+        if (!(gap < rd) || gap <= -rd) return;  // apart, or passed through the surface
+      }
+      const double delta = rd - gap;
+      const double tx = -ny, ty = nx;
+      const double arm = gap;  // from d's centre to the touching point, on the surface
+      const bool rot = particle(d) != 0 && inertia(d) > 0.0;
+      const double w = rot ? spin(d) : 0.0;
+      const double vx = (1.0 - t) * v(a, 0) + t * v(b, 0) - v(d, 0);
+      const double vy = (1.0 - t) * v(a, 1) + t * v(b, 1) - v(d, 1);
+      const double delta_dot = -(vx * nx + vy * ny);
+      const double vt = vx * tx + vy * ty - arm * w;
+      const double k = ContactLaw::series_stiffness(stiffness(d), stiffness(s));
+      const double inv_m = 1.0 / mass(d);
+      const double fn = law.normal_force(k, inv_m, delta, delta_dot);
+      const double inv_mt = inv_m + (rot ? arm * arm / inertia(d) : 0.0);
+      const double fs = law.friction_force(fn, vt, inv_mt, dt);
+      fx += -fn * nx + fs * tx;
+      fy += -fn * ny + fs * ty;
+      md += arm * fs;
+      sums.v[0] += ContactLaw::elastic_energy(k, delta);
+      sums.v[1] += ContactLaw::dissipation(k, delta, delta_dot, vt, fn, fs, inv_m, inv_mt, dt);
+      sums.v[2] += 1.0;
+    };
+    const double t_prev = prev >= 0 ? along(prev, s) : 2.0;   // 2: no edge before s
+    const double t_next = next >= 0 ? along(s, next) : -1.0;  // -1: no edge after s
+    if (next >= 0 && t_next >= 0.0 && t_next < 0.5) touch(s, next, t_next, false);
+    if (prev >= 0 && t_prev >= 0.5 && t_prev <= 1.0) touch(prev, s, t_prev, false);
+    if (t_next < 0.0 && t_prev > 1.0) {  // beyond both edges: the corner s
+      if (next >= 0)
+        touch(s, next, 0.0, true);
+      else
+        touch(prev, s, 1.0, true);
+    }
+    if (fx == 0.0 && fy == 0.0 && md == 0.0) return;
+    const double sign = d_is_i ? 1.0 : -1.0;  // pair_force holds the force on the pair's i
+    if (gather) {
+      pair_force(p, 0) = sign * fx;
+      pair_force(p, 1) = sign * fy;
+      pair_force(p, d_is_i ? 2 : 3) = md;
+    } else {
+      Kokkos::atomic_add(&f(d, 0), fx);
+      Kokkos::atomic_add(&f(d, 1), fy);
+      Kokkos::atomic_add(&f(s, 0), -fx);
+      Kokkos::atomic_add(&f(s, 1), -fy);
+      if (particle(d) != 0 && inertia(d) > 0.0) Kokkos::atomic_add(&moment(d), md);
+    }
   }
 
   KOKKOS_INLINE_FUNCTION bool joined(const int p, const int i, const int j) const {
@@ -271,7 +378,8 @@ inline ContactSums contact_forces(const Nodes& nodes, const Topology& topo,
                                   long count, const ContactLaw& law, double dt,
                                   const View<const int* [3]>& joins = {},
                                   const ContactGather& gather = {},
-                                  const ResultSlot<ContactSums>& into = {}) {
+                                  const ResultSlot<ContactSums>& into = {},
+                                  const RigidSurface& surface = {}) {
   ContactForceKernel kernel{pair_i,       pair_j,
                             joins,        nodes.x,
                             nodes.v,      nodes.mass,
@@ -280,7 +388,8 @@ inline ContactSums contact_forces(const Nodes& nodes, const Topology& topo,
                             nodes.fixed,  nodes.particle,
                             nodes.f,      nodes.moment,
                             topo,         law,
-                            dt,           gather.built() ? gather.pair_force : View<double* [4]>()};
+                            dt,           gather.built() ? gather.pair_force : View<double* [4]>(),
+                            surface};
   ContactSums sums;
   const auto policy = Kokkos::RangePolicy<ExecSpace>(0, count);
   if (into.data())

@@ -144,6 +144,16 @@ KOKKOS_INLINE_FUNCTION void cell_green_lagrange(const Elements& el, const Nodes&
   green_lagrange(x0, y0, ux, uy, strain);
 }
 
+// True when a point of element e has reached damage 1 in its law's state (Elements::law_state,
+// kLawDamage: hjc's damage, johnson_cook's failure damage; 0 for laws without one).
+KOKKOS_INLINE_FUNCTION bool cell_has_failed(const Elements& el, const int e) {
+  if (el.law_state.extent(0) == 0) return false;
+  bool failed = false;
+  for (int g = 0; g < el.qp_per_element; ++g)
+    failed = failed || el.law_state(e * el.qp_per_element + g, kLawDamage) >= 1.0;
+  return failed;
+}
+
 // Activates the bond slots of the elements listed in `converted` and makes their nodes discs.
 // `element_bonds(e, 0..3)` are the edge slots, `(e, 4..5)` the diagonal slots.
 inline void activate_element_bonds(const View<int*>& converted, int count,
@@ -171,6 +181,30 @@ inline void activate_element_bonds(const View<int*>& converted, int count,
         }
         for (int a = 0; a < 4; ++a) nodes.particle(elements.nodes(e, a)) = 1;
       });
+  // Cells whose material has failed (damage 1 at a point: hjc, johnson_cook with failure) have
+  // no cohesion left, so their discs inherit it: every slot of the cell is born broken (a crack,
+  // contact only) and the cell's own terms (volumetric, hoop) never act, as rubble. A pass of
+  // its own after the activation, so that a slot shared with an intact cell of the same batch
+  // ends broken whatever the order of the cells (every writer writes the same values).
+  if (elements.law_state.extent(0) > 0)
+    Kokkos::parallel_for(
+        "fracta::unbond_failed_cells", Kokkos::RangePolicy<ExecSpace>(0, count),
+        KOKKOS_LAMBDA(const int k) {
+          const int e = converted(k);
+          if (!cell_has_failed(elements, e)) return;
+          for (int a = 0; a < 6; ++a) {
+            const int b = element_bonds(e, a);
+            if (b < 0) continue;
+            if (bonds.state(b) == kBondInactive) bonds.rest_length(b) = bonds.length0(b);
+            bonds.state(b) = kBondBroken;
+            bonds.fn(b) = 0.0;
+            bonds.fs(b) = 0.0;
+          }
+          if (elements.cell_cracked.extent(0) > 0) elements.cell_cracked(e) = 1;
+          if (elements.cell_volumetric_strain.extent(0) > 0)
+            elements.cell_volumetric_strain(e) = 0.0;
+          if (elements.cell_hoop.extent(0) > 0) elements.cell_hoop(e, kHoopStrain) = 0.0;
+        });
   // Effective areas S = kn L0 / E_eff: the bond stress fn / S then equals E_eff times the bond
   // strain, so an orthogonal bond reaches sigma_t exactly when a block in uniaxial tension
   // along it carries sigma_t (docs/physics.md 1.2, "Bond laws").

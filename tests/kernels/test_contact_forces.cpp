@@ -271,6 +271,75 @@ TEST(ContactForces, SingleContactValuesAndSigns) {
   EXPECT_NEAR(res.dissipated, diss, 1e-12 * diss);
 }
 
+// A disc against the surface of a rigid body of revolution (RigidSurface): nodes 0, 1, 2 are a
+// surface chain P0 -> P1 -> P2 (the body on its left) with a convex corner at P1; node 3 is the
+// disc. Returns the force on the disc and the sum of the forces on the chain's nodes, and the
+// kernel's sums, for the disc at (x, y), frictionless and undamped.
+struct SurfaceTouch {
+  double fx, fy, chain_fx, chain_fy, elastic;
+  long touching;
+};
+constexpr double kEdge = 2e-3, kDiscR = 1.5e-3, kSurfaceK = 2e6;
+const double kP[3][2] = {{0.0, 0.0}, {kEdge * 0.8, kEdge * 0.6}, {kEdge * 0.8, kEdge * 1.6}};
+SurfaceTouch touch_surface(const double x, const double y) {
+  test::HostDiscs h;
+  for (int a = 0; a < 3; ++a) h.add(kP[a][0], kP[a][1], kEdge, 1.0, kSurfaceK, 0, 0, 0, 0);
+  h.add(x, y, kDiscR, 0.01, kSurfaceK);
+  h.particle = {0, 0, 0, 1};                // the chain's nodes are a body's, not discs
+  const Nodes nodes = test::make_nodes(h);  // the chain bonded to itself: its nodes never touch
+  RigidSurface surface;
+  surface.begin = 0;
+  surface.end = 3;
+  surface.link = View<int* [2]>("fracta::test_surface_link", 3);
+  auto link = Kokkos::create_mirror_view(surface.link);
+  const int chain[3][2] = {{-1, 1}, {0, 2}, {1, -1}};
+  for (int a = 0; a < 3; ++a) link(a, 0) = chain[a][0], link(a, 1) = chain[a][1];
+  Kokkos::deep_copy(surface.link, link);
+  ContactSystem cs(iota_nodes(4), ContactParams{0.5, 0.0, 0.0}, kEdge);
+  cs.set_rigid_surface(surface);
+  cs.update(nodes);
+  const ContactStepResult res =
+      cs.compute_forces(nodes, test::make_topology(4, {{0, 1}, {1, 2}, {0, 2}}), 1e-8);
+  auto f = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.f);
+  return {f(3, 0),
+          f(3, 1),
+          f(0, 0) + f(1, 0) + f(2, 0),
+          f(0, 1) + f(1, 1) + f(2, 1),
+          res.elastic_energy,
+          res.touching};
+}
+
+// Exact: a frictionless edge pushes a disc along its outward normal with k delta wherever along
+// it the disc touches (a row of the nodes' discs would push along the line from the nearest
+// node, a bump that catches what slides past), once whichever node's pair sees it, and the
+// chain takes the opposite force. Beyond both edges at the corner P1 the push is along the line
+// from the corner. Tolerance 1e-12 relative: a few operations.
+TEST(ContactForces, RigidSurfacePushesAlongTheEdgeNormalOnceAnywhere) {
+  const double nx = 0.6, ny = -0.8;  // outward normal of P0 -> P1: (ey, -ex) / |e|
+  const double delta = 1e-5, k = kSurfaceK;
+  for (const double t : {0.05, 0.3, 0.49, 0.5, 0.51, 0.7, 0.95}) {
+    const double gap = kDiscR - delta;
+    const SurfaceTouch s = touch_surface(t * kP[1][0] + gap * nx, t * kP[1][1] + gap * ny);
+    EXPECT_EQ(s.touching, 1) << "t " << t;
+    EXPECT_NEAR(s.fx, k * delta * nx, 1e-12 * k * delta) << "t " << t;
+    EXPECT_NEAR(s.fy, k * delta * ny, 1e-12 * k * delta) << "t " << t;
+    EXPECT_NEAR(s.chain_fx, -s.fx, 1e-15 * k * delta);
+    EXPECT_NEAR(s.chain_fy, -s.fy, 1e-15 * k * delta);
+    EXPECT_NEAR(s.elastic, 0.5 * k * delta * delta, 1e-12 * k * delta * delta);
+  }
+  // The convex corner P1: the disc beyond both edges (below and to the right of it).
+  const double ux = 0.8, uy = -0.6, dist = kDiscR - delta;  // between the two edges' normals
+  const SurfaceTouch c = touch_surface(kP[1][0] + dist * ux, kP[1][1] + dist * uy);
+  EXPECT_EQ(c.touching, 1);
+  EXPECT_NEAR(c.fx, k * delta * ux, 1e-12 * k * delta);
+  EXPECT_NEAR(c.fy, k * delta * uy, 1e-12 * k * delta);
+  // Apart from the surface: nothing.
+  const SurfaceTouch apart =
+      touch_surface(0.5 * kP[1][0] + 1.1 * kDiscR * nx, 0.5 * kP[1][1] + 1.1 * kDiscR * ny);
+  EXPECT_EQ(apart.touching, 0);
+  EXPECT_EQ(apart.fx, 0.0);
+}
+
 // Separating faster than the spring relaxes: the force is clamped at zero (no adhesion).
 TEST(ContactForces, NoAdhesion) {
   const double r = 1e-3, m = 0.01, k = 2e6;

@@ -393,11 +393,9 @@ TEST(Conversion, EverythingConvertsAndBalanceCloses) {
                  std::to_string(end.energy.conversion / end.energy.external));
 }
 
-// An adaptive hjc body converts an element when a point's damage reaches the material's
-// conversion_damage (exact: the damage is set by hand, so the answer is known), and not by the
-// principal-stress tension criterion, which hjc replaces by its damage: both through the sweep
-// (compact_converted) and through a step (the element kernel's flags).
-TEST(Conversion, HjcElementsConvertAtTheirConversionDamageOnly) {
+// A 4 x 4 adaptive block of the Holmquist-Johnson-Cook 48 MPa concrete (Holmquist, Johnson &
+// Cook 1993) converting at damage 1 only.
+Case hjc_adaptive_case() {
   Case c = adaptive_case(4, 4, 1e-3, Formulation::plane_strain);
   Material& m = c.materials[0];
   m.model = MaterialModel::hjc;
@@ -410,6 +408,15 @@ TEST(Conversion, HjcElementsConvertAtTheirConversionDamageOnly) {
   m.tensile_strength = 4e6;
   m.conversion_strain = 1e300;
   m.conversion_damage = 1.0;
+  return c;
+}
+
+// An adaptive hjc body converts an element when a point's damage reaches the material's
+// conversion_damage (exact: the damage is set by hand, so the answer is known), and not by the
+// principal-stress tension criterion, which hjc replaces by its damage: both through the sweep
+// (compact_converted) and through a step (the element kernel's flags).
+TEST(Conversion, HjcElementsConvertAtTheirConversionDamageOnly) {
+  Case c = hjc_adaptive_case();
   c.sim.conversion_on_tension = true;
   for (const bool through_step : {false, true}) {
     Simulation sim(c);
@@ -435,6 +442,47 @@ TEST(Conversion, HjcElementsConvertAtTheirConversionDamageOnly) {
     const auto alive = Kokkos::create_mirror_view_and_copy(HostSpace(), model.elements.alive);
     for (int e = 0; e < 16; ++e) EXPECT_EQ(alive(e) == 0, e == 5 || e == 9) << "element " << e;
   }
+}
+
+// Exact (the model's own rule, docs/physics.md 1.3): a cell whose material has failed (hjc
+// damage 1) has no cohesion, so its discs are born unbonded: every slot of the two converted
+// cells (5 and 9, sharing an edge) is broken with no force, the cells are cracked (their own
+// terms never act), their nodes are discs, no slot of the lattice is active, and the nodes keep
+// their masses. On one and two threads alike (the slots the two cells share are written by both).
+TEST(Conversion, FailedHjcCellsConvertToUnbondedDiscs) {
+  Case c = hjc_adaptive_case();
+  Simulation sim(c);
+  Model& model = sim.model();
+  const auto mass_before = Kokkos::create_mirror_view_and_copy(HostSpace(), model.nodes.mass);
+  auto state = Kokkos::create_mirror_view_and_copy(HostSpace(), model.elements.law_state);
+  state(5, kLawDamage) = 1.0;
+  state(9, kLawDamage) = 1.0;
+  Kokkos::deep_copy(model.elements.law_state, state);
+  sim.step();
+  ASSERT_EQ(sim.conversions(), 2);
+  const auto slots = Kokkos::create_mirror_view_and_copy(HostSpace(), model.element_bonds);
+  const auto bond_state = Kokkos::create_mirror_view_and_copy(HostSpace(), model.bonds.state);
+  const auto fn = Kokkos::create_mirror_view_and_copy(HostSpace(), model.bonds.fn);
+  const auto cracked =
+      Kokkos::create_mirror_view_and_copy(HostSpace(), model.elements.cell_cracked);
+  const auto particle = Kokkos::create_mirror_view_and_copy(HostSpace(), model.nodes.particle);
+  const auto corners = Kokkos::create_mirror_view_and_copy(HostSpace(), model.elements.nodes);
+  const auto mass = Kokkos::create_mirror_view_and_copy(HostSpace(), model.nodes.mass);
+  int broken = 0;
+  for (const int e : {5, 9}) {
+    EXPECT_EQ(cracked(e), 1) << "cell " << e;
+    for (int a = 0; a < 6; ++a) {
+      const int b = slots(e, a);
+      if (b < 0) continue;
+      EXPECT_EQ(bond_state(b), int{kBondBroken}) << "cell " << e << " slot " << a;
+      EXPECT_EQ(fn(b), 0.0);
+      ++broken;
+    }
+    for (int a = 0; a < 4; ++a) EXPECT_EQ(particle(corners(e, a)), 1);
+  }
+  EXPECT_EQ(broken, 12);  // 6 slots each; the shared edge's slot counted twice
+  for (size_t b = 0; b < bond_state.extent(0); ++b) EXPECT_NE(bond_state(b), int{kBondActive});
+  for (size_t n = 0; n < mass.extent(0); ++n) EXPECT_EQ(mass(n), mass_before(n));
 }
 
 }  // namespace

@@ -83,7 +83,7 @@ TEST(Penetration, ProjectileStaysBelowItsConversionStrain) {
 
 // Regression (fracta's own figures, validates nothing) on cases/penetration_hjc.toml: with the
 // Holmquist-Johnson-Cook concrete, converting by damage, what has converted at 20 us is the
-// crater and the spall zone only. Measured (2 threads): 52 of 864 slab elements, all within
+// crater and the spall zone only. Measured (2 threads): 80 of 864 slab elements, all within
 // 20 mm of the axis, in the top or bottom 10 mm of the slab (the crater's edges and the rear
 // face under the projectile). Tolerances: 1 to 10 % of the slab; the places exactly.
 TEST(Penetration, HjcConcreteConvertsOnlyTheCraterAndSpallZoneFirst) {
@@ -148,9 +148,9 @@ TEST(Penetration, AxisymmetricSceneConservesMassAndEnergy) {
 // concrete at 750 m/s, axisymmetric, the slab adaptive), whole, as CI can afford it (about 10 s).
 // Conservation: mass exact, the energy balance within 1 % (measured 4.9e-4), no node at a
 // negative radius, the rod moving along the axis only. Regression (fracta's own figure, which
-// validates nothing): it perforates, and its residual velocity stays within 10 % of the 278 m/s
-// measured when the case was made; the experiment's is not known here (docs/validation.md,
-// "Perforation").
+// validates nothing): it perforates, and its residual velocity stays within 10 % of the 532 m/s
+// measured with the rod's smooth surface and the unbonded rubble (278 m/s before both); the
+// experiment's is not known here (docs/validation.md, "Perforation").
 TEST(Penetration, PerforationMainJob) {
   Case c = load_case(std::string(FRACTA_SOURCE_DIR) + "/cases/perforation.toml", {});
   Simulation sim(c);
@@ -167,7 +167,7 @@ TEST(Penetration, PerforationMainJob) {
   double nose = 1e9;
   for (int n = rod.node_begin; n < rod.node_end; ++n) nose = std::min(nose, x(n, 1));
   EXPECT_LT(nose, 0.0);
-  EXPECT_NEAR(-rod.vy, 278.0, 27.8);
+  EXPECT_NEAR(-rod.vy, 532.0, 53.2);
   std::printf(
       "perforation main job: residual velocity %.1f m/s, energy error %.3g, %ld conversions\n",
       -rod.vy, worst, sim.conversions());

@@ -107,7 +107,7 @@ TEST(Rigid, BodyOfRevolutionStrikesARod) {
   s.material = heavy.name;
   s.material_index = 1;
   s.method = BodyMethod::rigid;
-  s.shape.y = L + h;  // the end nodes' discs (radius h / 2) just touch
+  s.shape.y = L + 0.5 * h;  // the rod's end discs (radius h / 2) just touch its face (a surface)
   s.shape.height = striker_length;
   s.initial_velocity = {0.0, -v0};
   c.bodies.push_back(s);
