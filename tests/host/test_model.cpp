@@ -2,11 +2,15 @@
 // component in two ways, or act on a rigid body as only a deformable one can, are input errors
 // naming the boundary; fixed boundaries may overlap and a bar combines with anything. A body's
 // initial velocity field is linear: every node starts at v0 + L (x - x0), its discs spinning at
-// the field's rotation rate.
+// the field's rotation rate. A rigid polygon's boundary nodes lie on its outline.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <string>
+#include <vector>
 
+#include "host/case.hpp"
 #include "host/model.hpp"
 #include "kernels/compat.hpp"
 #include "test_util.hpp"
@@ -90,6 +94,63 @@ TEST(ModelInitialVelocity, NodesStartOnTheLinearFieldAndDiscsAtItsRotationRate) 
     EXPECT_EQ(particle(n), 1) << "node " << n;
     EXPECT_EQ(spin(n), 0.5 * (2e3 - -4e3)) << "node " << n;
   }
+}
+
+}  // namespace
+}  // namespace fracta
+
+namespace fracta {
+namespace {
+
+double distance_to_outline(const std::vector<Vec2>& p, const Vec2& q) {
+  double best = 1e300;
+  for (size_t i = 0, j = p.size() - 1; i < p.size(); j = i++) {
+    const double ex = p[i][0] - p[j][0], ey = p[i][1] - p[j][1];
+    double t = ((q[0] - p[j][0]) * ex + (q[1] - p[j][1]) * ey) / (ex * ex + ey * ey);
+    t = std::min(1.0, std::max(0.0, t));
+    best = std::min(best, std::hypot(q[0] - p[j][0] - t * ex, q[1] - p[j][1] - t * ey));
+  }
+  return best;
+}
+
+// Exact (the construction): the boundary nodes of a rigid polygon (the main job's ogive-nose rod)
+// lie on its outline after the set-up (within 1e-12 of the cell), its rigid offsets follow them
+// (x = centre + offset), every surface edge off the axis is linked into the surface chain, and
+// the deformable slab's nodes stay on the grid (a staircase).
+TEST(ModelRigidSurface, RigidPolygonsBoundaryNodesLieOnItsOutline) {
+  const Case c = load_case(std::string(FRACTA_SOURCE_DIR) + "/cases/perforation.toml", {});
+  const Model m = build_model(c);
+  ASSERT_EQ(m.rigid.size(), 1u);
+  const RigidBody& rod = m.rigid[0];
+  const auto x = Kokkos::create_mirror_view_and_copy(HostSpace(), m.nodes.x);
+  const auto offset = Kokkos::create_mirror_view_and_copy(HostSpace(), m.rigid_offset);
+  const auto link = Kokkos::create_mirror_view_and_copy(HostSpace(), m.rigid_surface.link);
+  const std::vector<Vec2>& outline = c.bodies[1].shape.points;
+  const double h = c.bodies[1].cell_size;
+  int surface_nodes = 0, linked_edges = 0, moved_slab_nodes = 0;
+  for (size_t k = 0; k < m.mesh.boundary_edges.size(); ++k) {
+    const auto& edge = m.mesh.boundary_edges[k];
+    if (m.mesh.boundary_edge_body[k] == 0) {
+      for (const int n : edge)
+        if (x(n, 0) != m.mesh.position[n][0] || x(n, 1) != m.mesh.position[n][1])
+          ++moved_slab_nodes;
+      continue;
+    }
+    for (const int n : edge) {
+      EXPECT_LT(distance_to_outline(outline, {x(n, 0), x(n, 1)}), 1e-12 * h) << "node " << n;
+      EXPECT_NEAR(x(n, 0), rod.x + offset(n, 0), 1e-15);
+      EXPECT_NEAR(x(n, 1), rod.y + offset(n, 1), 1e-15);
+      ++surface_nodes;
+    }
+    const bool on_axis = x(edge[0], 0) == 0.0 && x(edge[1], 0) == 0.0;
+    const bool linked = link(edge[0] - m.rigid_surface.begin, 1) == edge[1] &&
+                        link(edge[1] - m.rigid_surface.begin, 0) == edge[0];
+    EXPECT_EQ(linked, !on_axis) << "edge " << edge[0] << " -> " << edge[1];
+    linked_edges += linked;
+  }
+  EXPECT_GT(surface_nodes, 100);
+  EXPECT_GT(linked_edges, 50);
+  EXPECT_EQ(moved_slab_nodes, 0);
 }
 
 }  // namespace
