@@ -108,6 +108,18 @@ KOKKOS_INLINE_FUNCTION double exp_(double a) {
   return Kokkos::Experimental::exp(a);
 #endif
 }
+// a b + c, fused (one rounding) wherever the machine has the instruction, else two roundings:
+// the same in the SIMD lanes' fma_ (simd.hpp), so that code written with it rounds alike in one
+// lane and in the scalar path, which a compiler's own contraction of a b + c does not promise.
+KOKKOS_INLINE_FUNCTION double fma_(double a, double b, double c) {
+#if defined(__CUDA_ARCH__)
+  return ::fma(a, b, c);
+#elif defined(__FMA__)
+  return __builtin_fma(a, b, c);
+#else
+  return a * b + c;
+#endif
+}
 KOKKOS_INLINE_FUNCTION double pow_(double a, double b) {
 #if KOKKOS_VERSION >= 40000
   return Kokkos::pow(a, b);

@@ -118,6 +118,22 @@ KOKKOS_INLINE_FUNCTION double elastic_energy_density(const MaterialLaw& m, const
          s[3] * s[3] / (2.0 * m.shear_modulus);
 }
 
+// exp(x) of a step's volumetric strain increment (T: double, or simd.hpp's lane type): for
+// |x| <= 1/32, every step's in practice, the Taylor polynomial of degree 7 in Horner form with
+// explicit fused multiply-adds (fma_), whose truncation x^8/8! is below 3e-17 relative and whose
+// rounding costs a few ulps, so that a lane and the scalar update give the same bits without a
+// call per lane; larger |x| through exp_ (libm). hjc_update and hjc_elastic_update both take it.
+template <class T>
+KOKKOS_FORCEINLINE_FUNCTION T exp_of_increment(const T& x) {
+  constexpr double kInverseFactorial[8] = {1.0,        1.0,         1.0 / 2.0,   1.0 / 6.0,
+                                           1.0 / 24.0, 1.0 / 120.0, 1.0 / 720.0, 1.0 / 5040.0};
+  T p = splat<T>(kInverseFactorial[7]);
+  for (int k = 6; k >= 0; --k) p = fma_(p, x, splat<T>(kInverseFactorial[k]));
+  const auto large = fabs_(x) > 0.03125;
+  if (!any_lane(large)) return p;
+  return large ? exp_(x) : p;
+}
+
 namespace detail {
 
 // ---------------------------------------------------------------------------------------------
@@ -621,7 +637,7 @@ KOKKOS_INLINE_FUNCTION double hjc_update(const MaterialLaw& m, const double deps
   double damage = state[0];
   const double mu_max_old = state[2];
   const double tr = deps[0] + deps[1] + deps_zz;
-  const double mu = (1.0 + state[1]) * exp_(-tr) - 1.0;
+  const double mu = (1.0 + state[1]) * exp_of_increment(-tr) - 1.0;
   const double mu_max = max_(mu_max_old, mu);
   double p = hjc_pressure(h, mu, mu_max);
   const double tension_limit = h.t * (1.0 - damage);
@@ -832,7 +848,7 @@ KOKKOS_FORCEINLINE_FUNCTION auto hjc_elastic_update(const MaterialLaw& m, const 
   const double G = m.shear_modulus;
   const T zero = splat<T>(0.0);
   const T tr = deps[0] + deps[1] + deps_zz;
-  mu = (1.0 + state[1]) * exp_(-tr) - 1.0;
+  mu = (1.0 + state[1]) * exp_of_increment(-tr) - 1.0;
   mu_max = max_(state[2], mu);
   // The envelope (hjc_envelope) at mu_env and the pressure (hjc_pressure) short of the dense
   // curve.

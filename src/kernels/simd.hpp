@@ -254,6 +254,30 @@ KOKKOS_FORCEINLINE_FUNCTION V exp_(V a) {
   return a;
 }
 
+// compat.hpp's fma_ lane by lane: the fused instruction where the machine has it.
+KOKKOS_FORCEINLINE_FUNCTION Double4 fma_(const Double4& a, const Double4& b, const Double4& c) {
+#if defined(__FMA__)
+  return reinterpret_cast<Double4>(_mm256_fmadd_pd(
+      reinterpret_cast<__m256d>(a), reinterpret_cast<__m256d>(b), reinterpret_cast<__m256d>(c)));
+#else
+  return a * b + c;
+#endif
+}
+KOKKOS_FORCEINLINE_FUNCTION Double8 fma_(const Double8& a, const Double8& b, const Double8& c) {
+#if defined(__AVX512F__)
+  return reinterpret_cast<Double8>(_mm512_fmadd_pd(
+      reinterpret_cast<__m512d>(a), reinterpret_cast<__m512d>(b), reinterpret_cast<__m512d>(c)));
+#elif defined(__FMA__)
+  const Double4 lo = fma_(Double4{a[0], a[1], a[2], a[3]}, Double4{b[0], b[1], b[2], b[3]},
+                          Double4{c[0], c[1], c[2], c[3]});
+  const Double4 hi = fma_(Double4{a[4], a[5], a[6], a[7]}, Double4{b[4], b[5], b[6], b[7]},
+                          Double4{c[4], c[5], c[6], c[7]});
+  return __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7);
+#else
+  return a * b + c;
+#endif
+}
+
 // log10 of the lanes, without a call per lane: x = m 2^e with m in [sqrt(1/2), sqrt(2)), then
 // ln m = 2 atanh(s) = 2 (s + s^3 / 3 + s^5 / 5 + ...), s = (m - 1) / (m + 1), |s| <= 0.1716,
 // whose terms to s^25 leave less than 1e-19; ln 2 in two parts. Within 4 ulps of the scalar
