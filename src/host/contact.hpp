@@ -111,7 +111,6 @@ class ContactSystem {
   // The surfaces of rigid bodies of revolution (contact_forces.hpp, RigidSurface): discs touch
   // them as polygons. Default: none.
   void set_rigid_surface(const RigidSurface& surface) { rigid_surface_ = surface; }
-  const RigidSurface& rigid_surface() const { return rigid_surface_; }
 
   // The candidate list and its reference positions, for checkpoints: a restart that rebuilt
   // the list at another step than the uninterrupted run would change the order of the force

@@ -39,12 +39,32 @@ double tolerance_for(const HostMesh& m, int body) {
 }
 }  // namespace
 
-double distance_to_segment(const Segment& s, double x, double y) {
+Vec2 nearest_on_segment(const Segment& s, double x, double y) {
   const double dx = s.to[0] - s.from[0], dy = s.to[1] - s.from[1];
   const double len2 = dx * dx + dy * dy;
   double t = len2 > 0 ? ((x - s.from[0]) * dx + (y - s.from[1]) * dy) / len2 : 0.0;
   t = std::clamp(t, 0.0, 1.0);
-  return std::hypot(x - (s.from[0] + t * dx), y - (s.from[1] + t * dy));
+  return {s.from[0] + t * dx, s.from[1] + t * dy};
+}
+
+double distance_to_segment(const Segment& s, double x, double y) {
+  const Vec2 c = nearest_on_segment(s, x, y);
+  return std::hypot(x - c[0], y - c[1]);
+}
+
+Vec2 nearest_on_outline(const Shape& s, const Vec2& p) {
+  if (s.type == Shape::Type::circle) {
+    const double dx = p[0] - s.x, dy = p[1] - s.y, d = std::hypot(dx, dy);
+    return d > 0.0 ? Vec2{s.x + s.radius * dx / d, s.y + s.radius * dy / d} : p;
+  }
+  Vec2 best = p;
+  double best_distance = 1e300;
+  for (size_t i = 0, j = s.points.size() - 1; i < s.points.size(); j = i++) {
+    const Vec2 c = nearest_on_segment(Segment{s.points[j], s.points[i], {}}, p[0], p[1]);
+    const double d = std::hypot(p[0] - c[0], p[1] - c[1]);
+    if (d < best_distance) best_distance = d, best = c;
+  }
+  return best;
 }
 
 bool shape_contains(const Shape& s, double x, double y, double tol) {

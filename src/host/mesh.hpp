@@ -51,6 +51,9 @@ HostMesh build_mesh(const Case& c);
 bool shape_contains(const Shape& s, double x, double y, double tol = 0.0);
 std::array<double, 4> shape_bounds(const Shape& s);  // xmin, ymin, xmax, ymax
 double distance_to_segment(const Segment& s, double x, double y);
+Vec2 nearest_on_segment(const Segment& s, double x, double y);
+// The point of a polygon's or circle's outline nearest p.
+Vec2 nearest_on_outline(const Shape& s, const Vec2& p);
 
 // Nodes of `body` (-1: any body) selected by a segment (within tol of it) or a shape.
 std::vector<int> select_nodes(const HostMesh& m, const NodeSelector& sel, int body);

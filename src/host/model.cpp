@@ -283,57 +283,34 @@ Vec2 initial_velocity_at(const Body& b, const Vec2& x) {
           b.initial_velocity[1] + L[1][0] * dx + L[1][1] * dy};
 }
 
-// The discs of set-up `de` cells spin with their body's initial velocity field: the rotation
-// rate (dvy/dx - dvx/dy) / 2 of the gradient, so a rigidly rotating lattice starts unstrained.
-// The point of a polygon's or circle's outline nearest (x, y).
-Vec2 nearest_on_outline(const Shape& s, const Vec2& p) {
-  if (s.type == Shape::Type::circle) {
-    const double dx = p[0] - s.x, dy = p[1] - s.y, d = std::hypot(dx, dy);
-    return d > 0.0 ? Vec2{s.x + s.radius * dx / d, s.y + s.radius * dy / d} : p;
-  }
-  Vec2 best = p;
-  double best_d = 1e300;
-  for (size_t i = 0, j = s.points.size() - 1; i < s.points.size(); j = i++) {
-    const Vec2 &a = s.points[j], &b = s.points[i];
-    const double ex = b[0] - a[0], ey = b[1] - a[1];
-    const double t =
-        std::clamp(((p[0] - a[0]) * ex + (p[1] - a[1]) * ey) / (ex * ex + ey * ey), 0.0, 1.0);
-    const Vec2 c{a[0] + t * ex, a[1] + t * ey};
-    const double d = std::hypot(p[0] - c[0], p[1] - c[1]);
-    if (d < best_d) best_d = d, best = c;
-  }
-  return best;
-}
-
 // The mesh of a body is a staircase of whole cells (build_mesh): a rigid body's nose of
 // 2.5 mm cells is a stack of 2.5 mm steps, flat faces that push what they meet along the axis
 // as a blunt nose would. A rigid body computes no element forces, so the boundary nodes of a
-// rigid polygon or circle (without cuts) are moved onto the shape's outline: its contact
-// surface is then the shape to within the chords between nodes. The nodes' masses stay those
-// of the staircase (the body's mass and centre are set before), which moves no mass by more
-// than a cell. Returns the positions, snapped.
-std::vector<Vec2> snap_rigid_surfaces(Model& model) {
+// rigid polygon or circle (without cuts) are moved onto the shape's outline (the nodes'
+// positions and rigid offsets; the host mesh stays the staircase, from which masses, contact
+// depths and selections are taken): its contact surface is then the shape to within the chords
+// between nodes. The nodes' masses stay those of the staircase (the body's mass and centre are
+// set before, build_rigid_bodies), which moves no mass by more than a cell.
+void snap_rigid_surfaces(Model& model) {
   const HostMesh& m = model.mesh;
-  std::vector<Vec2> position = m.position;
-  std::vector<char> moved(position.size(), 0);
+  std::vector<int> moved;
+  std::vector<char> seen(m.position.size(), 0);
   for (size_t k = 0; k < m.boundary_edges.size(); ++k) {
     const Body& body = model.scene.bodies[m.boundary_edge_body[k]];
     if (body.method != BodyMethod::rigid || !body.cuts.empty()) continue;
     if (body.shape.type != Shape::Type::polygon && body.shape.type != Shape::Type::circle) continue;
     for (const int n : m.boundary_edges[k])
-      if (!moved[n]) {
-        position[n] = nearest_on_outline(body.shape, m.position[n]);
-        moved[n] = 1;
-      }
+      if (!seen[n]) seen[n] = 1, moved.push_back(n);
   }
-  if (std::none_of(moved.begin(), moved.end(), [](char c) { return c != 0; })) return position;
+  if (moved.empty()) return;
   auto x = Kokkos::create_mirror_view_and_copy(HostSpace(), model.nodes.x);
   auto x0 = Kokkos::create_mirror_view_and_copy(HostSpace(), model.nodes.x0);
   auto offset = Kokkos::create_mirror_view_and_copy(HostSpace(), model.rigid_offset);
-  for (size_t n = 0; n < position.size(); ++n) {
-    if (!moved[n]) continue;
+  for (const int n : moved) {
+    const Vec2 snapped =
+        nearest_on_outline(model.scene.bodies[m.node_body[n]].shape, m.position[n]);
     for (int c = 0; c < 2; ++c) {
-      const double shift = position[n][c] - m.position[n][c];
+      const double shift = snapped[c] - m.position[n][c];
       x(n, c) += shift;
       x0(n, c) += shift;
       offset(n, c) += shift;
@@ -342,7 +319,6 @@ std::vector<Vec2> snap_rigid_surfaces(Model& model) {
   Kokkos::deep_copy(model.nodes.x, x);
   Kokkos::deep_copy(model.nodes.x0, x0);
   Kokkos::deep_copy(model.rigid_offset, offset);
-  return position;
 }
 
 // The surfaces of the rigid bodies of revolution (RigidSurface, contact_forces.hpp): each
@@ -352,7 +328,7 @@ std::vector<Vec2> snap_rigid_surfaces(Model& model) {
 // its edges, so that a disc touching an edge is a candidate of the edge's nearer end.
 void build_rigid_surface(Model& model, std::vector<double>& radius) {
   const HostMesh& m = model.mesh;
-  const std::vector<Vec2> position = snap_rigid_surfaces(model);
+  const auto position = Kokkos::create_mirror_view_and_copy(HostSpace(), model.nodes.x0);
   int begin = -1, end = -1;
   for (const RigidBody& r : model.rigid) {
     if (!r.axial_only) continue;
@@ -366,11 +342,13 @@ void build_rigid_surface(Model& model, std::vector<double>& radius) {
     if (a < begin || a >= end) continue;
     const int body = m.boundary_edge_body[k];
     if (model.scene.bodies[body].method != BodyMethod::rigid) continue;
-    const Vec2 &p = position[a], &q = position[b];
-    const double length = std::hypot(q[0] - p[0], q[1] - p[1]);
+    // The snapped positions (snap_rigid_surfaces).
+    const double length =
+        std::hypot(position(b, 0) - position(a, 0), position(b, 1) - position(a, 1));
     const double h = std::min(m.bodies[body].cell_x, m.bodies[body].cell_y);
     if (!(length > 1e-6 * h)) continue;  // two corners snapped to one point: no edge
-    if (std::fabs(p[0]) <= 1e-9 * length && std::fabs(q[0]) <= 1e-9 * length) continue;
+    if (std::fabs(position(a, 0)) <= 1e-9 * length && std::fabs(position(b, 0)) <= 1e-9 * length)
+      continue;
     link[2 * (a - begin) + 1] = b;
     link[2 * (b - begin) + 0] = a;
     radius[a] = std::max(radius[a], 0.5 * length);
@@ -389,6 +367,8 @@ void build_rigid_surface(Model& model, std::vector<double>& radius) {
   model.rigid_surface = surface;
 }
 
+// The discs of set-up `de` cells spin with their body's initial velocity field: the rotation
+// rate (dvy/dx - dvx/dy) / 2 of the gradient, so a rigidly rotating lattice starts unstrained.
 void set_initial_spins(Model& model) {
   const Case& c = model.scene;
   const bool any = std::any_of(c.bodies.begin(), c.bodies.end(), [](const Body& b) {
@@ -1116,6 +1096,7 @@ Model build_model(const Case& c) {
   model.fe.bulk_quadratic = c.sim.bulk_viscosity_quadratic;
 
   build_rigid_bodies(model);
+  snap_rigid_surfaces(model);
   build_loads(model);
   build_boundaries(model);
   build_probes(model);

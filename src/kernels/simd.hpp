@@ -267,14 +267,11 @@ KOKKOS_FORCEINLINE_FUNCTION Double8 fma_(const Double8& a, const Double8& b, con
 #if defined(__AVX512F__)
   return reinterpret_cast<Double8>(_mm512_fmadd_pd(
       reinterpret_cast<__m512d>(a), reinterpret_cast<__m512d>(b), reinterpret_cast<__m512d>(c)));
-#elif defined(__FMA__)
-  const Double4 lo = fma_(Double4{a[0], a[1], a[2], a[3]}, Double4{b[0], b[1], b[2], b[3]},
-                          Double4{c[0], c[1], c[2], c[3]});
-  const Double4 hi = fma_(Double4{a[4], a[5], a[6], a[7]}, Double4{b[4], b[5], b[6], b[7]},
-                          Double4{c[4], c[5], c[6], c[7]});
-  return __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7);
 #else
-  return a * b + c;
+  // Lane by lane (a fused multiply-add is correctly rounded: the same bits as one instruction).
+  Double8 r = a;
+  for (int l = 0; l < 8; ++l) r[l] = fma_(a[l], b[l], c[l]);
+  return r;
 #endif
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "host/case.hpp"
+#include "host/mesh.hpp"
 #include "host/model.hpp"
 #include "kernels/compat.hpp"
 #include "test_util.hpp"
@@ -104,12 +105,8 @@ namespace {
 
 double distance_to_outline(const std::vector<Vec2>& p, const Vec2& q) {
   double best = 1e300;
-  for (size_t i = 0, j = p.size() - 1; i < p.size(); j = i++) {
-    const double ex = p[i][0] - p[j][0], ey = p[i][1] - p[j][1];
-    double t = ((q[0] - p[j][0]) * ex + (q[1] - p[j][1]) * ey) / (ex * ex + ey * ey);
-    t = std::min(1.0, std::max(0.0, t));
-    best = std::min(best, std::hypot(q[0] - p[j][0] - t * ex, q[1] - p[j][1] - t * ey));
-  }
+  for (size_t i = 0, j = p.size() - 1; i < p.size(); j = i++)
+    best = std::min(best, distance_to_segment(Segment{p[j], p[i], {}}, q[0], q[1]));
   return best;
 }
 

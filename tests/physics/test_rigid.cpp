@@ -95,7 +95,7 @@ TEST(Rigid, RigidStrikerOnLatticeConservesMomentum) {
 TEST(Rigid, BodyOfRevolutionStrikesARod) {
   const double h = 0.5e-3, E = 200e9, nu = 0.3, rho = 7800.0, v0 = 10.0;
   const int nr = 4, nz = 200;
-  const double a = nr * h, L = nz * h, striker_length = 10e-3;
+  const double L = nz * h, striker_length = 10e-3;
   Case c = test::rectangle_case(nr, nz, h, E, nu, rho, Formulation::axisymmetric);
   c.bodies[0].name = "rod";
   Material heavy = c.materials[0];
