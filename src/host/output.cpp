@@ -252,6 +252,9 @@ struct OutputFile::Impl {
   double commit_spacing = std::getenv("FRACTA_COMMIT_EVERY_FRAME") ? 0.0 : kCommitSpacing;
   double write_seconds = 0, finish_seconds = 0;
   int commits = 0;
+  // Bytes of the files written whole so far (frame files, each commit's OUT.h5 and .xdmf): the
+  // output's work as a count, for the constant-cost test, which must not time anything.
+  std::uintmax_t bytes_written = 0;
 
   // --- error handling and helpers (host/hdf5.hpp) -----------------------------------------
 
@@ -375,6 +378,7 @@ struct OutputFile::Impl {
     io.write_file(tmp, true, !consolidate,
                   [&](hid_t root) { write_output(root, final_attributes, consolidate); });
     rename_over(tmp, path, path);
+    bytes_written += written_size(path);
     committed = true;
     history_rows.clear();
     for (auto& [name, rows] : probe_rows) rows.clear();
@@ -388,11 +392,19 @@ struct OutputFile::Impl {
     // The .xdmf after OUT.h5, so that it never shows a frame OUT.h5 does not list.
     if (xdmf_frames != frame_info.size()) {
       write_xdmf();
+      bytes_written += written_size(xdmf_path);
       xdmf_frames = frame_info.size();
     }
     last_commit_seconds = seconds_since(start);
     last_commit_end = Clock::now();
     ++commits;
+  }
+
+  // The size of a file just written (0 if it cannot be read: the count is a measure, not a check).
+  static std::uintmax_t written_size(const std::string& file) {
+    std::error_code ignored;
+    const std::uintmax_t size = fs::file_size(file, ignored);
+    return ignored ? 0 : size;
   }
 
   // A frame's commit is due once the wall time since the last commit is kCommitSpacing times
@@ -582,6 +594,7 @@ struct OutputFile::Impl {
     info.single_precision = storage.single_precision;
     io.write_file(tmp, true, false, [&](hid_t file) { write_frame_datasets(file, f, info); });
     rename_over(tmp, final_name, path);
+    bytes_written += written_size(final_name);
     frame_info.push_back(std::move(info));
     // The first frame at once (a run shows its initial state), the others when due.
     if (frames_committed == 0 || commit_due()) commit(nullptr, false);
@@ -872,6 +885,10 @@ int OutputFile::frames_written() const {
 
 int OutputFile::frames_committed() const {
   return static_cast<int>(impl_->frames_committed);
+}
+
+std::uintmax_t OutputFile::bytes_written() const {
+  return impl_->bytes_written;
 }
 
 int OutputFile::commits() const {

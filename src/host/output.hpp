@@ -10,6 +10,7 @@
 #pragma once
 #include <array>
 #include <chrono>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <string>
@@ -169,6 +170,8 @@ class OutputFile {
   int frames_written() const;
   int frames_committed() const;  // frames OUT.h5 lists (after an I/O error: what it holds)
   int commits() const;           // commits so far (OUT.h5 written and renamed into place)
+  // Bytes of the files written so far: frame files, and OUT.h5 and OUT.xdmf at each commit.
+  std::uintmax_t bytes_written() const;
   // Wall time (s) spent inside write_frame and finish, and in the last finish alone.
   double write_seconds() const;
   double finish_seconds() const;
