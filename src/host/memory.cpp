@@ -93,9 +93,9 @@ constexpr double kDiscBytes = 56 + 8 + 64 + 2 * (40 + 16);
 
 // Axisymmetric lattices (rings): each convertible cell's hoop state (Elements::cell_hoop, 32 B)
 // and volumetric strain (8 B), both in the failure snapshot's rows once it converts, and each of
-// its nodes' push-only support on the axis (node, component, sign, plane, catch force: 32 B).
+// its nodes' flag for the push-only support on the axis (SupportDofs::axis_ring, 4 B).
 constexpr double kRingCellBytes = 2 * (32 + 8);
-constexpr double kRingNodeBytes = 32;
+constexpr double kRingNodeBytes = 4;
 
 // Indices are 32-bit ints (node ids, element ids, 4 bond slots per cell): keep well below.
 constexpr double kMaxCells = INT_MAX / 8.0;

@@ -166,12 +166,12 @@ void build_boundaries(Model& model) {
     model.boundary_sets.push_back(set);
   }
   // Rings (axisymmetric discs) cannot cross the axis: every node of a convertible body off the
-  // axis has a push-only support on x = 0 along +x, which catches it when it reaches the axis
-  // (a perfectly plastic stop, its energy counted as the constraint's work; a node caught
-  // behind the axis, by less than a step's motion, is put back on it) and lets it go when pulled
-  // away; on the axis it is an axis node, v_r = 0 (docs/physics.md 1.2, "Axisymmetric discs").
-  // Elements resist the axis themselves (their hoop strain rate v_r / r).
-  const int axis_supports_from = static_cast<int>(s_node.size());
+  // axis, once a disc, has a push-only support on x = 0 along +x, which catches it when it
+  // reaches the axis (a perfectly plastic stop, its energy counted as the constraint's work; a
+  // node caught behind the axis, by less than a step's motion, is put back on it) and lets it go
+  // when pulled away; on the axis it is an axis node, v_r = 0 (docs/physics.md 1.2,
+  // "Axisymmetric discs"). Elements resist the axis themselves (their hoop strain rate v_r / r).
+  std::vector<int> axis_ring;
   if (c.sim.formulation == Formulation::axisymmetric) {
     const HostMesh& m = model.mesh;
     // Not where a boundary already holds, drives or supports x (a support here would let a
@@ -188,13 +188,13 @@ void build_boundaries(Model& model) {
     for (int e = 0; e < m.element_count(); ++e)
       if (m.element_method[e] == BodyMethod::de || m.element_method[e] == BodyMethod::adaptive)
         for (const int n : m.element_nodes[e]) ring[n] = 1;
+    axis_ring.assign(m.node_count(), 0);
+    bool any = false;
     for (int n = 0; n < m.node_count(); ++n) {
-      if (!ring[n] || driven_x[n] || m.position[n][0] <= 0.0) continue;
-      s_node.push_back(n);
-      s_component.push_back(0);
-      s_sign.push_back(1.0);
-      s_plane.push_back(0.0);
+      axis_ring[n] = ring[n] && !driven_x[n] && m.position[n][0] > 0.0;
+      any = any || axis_ring[n];
     }
+    if (!any) axis_ring.clear();
   }
   PrescribedDofs& p = model.prescribed;
   p.count = static_cast<int>(p_node.size());
@@ -208,7 +208,7 @@ void build_boundaries(Model& model) {
   sd.sign = to_device_1d<double>("support_sign", s_sign);
   sd.plane = to_device_1d<double>("support_plane", s_plane);
   sd.catch_force = View<double*>("fracta::support_catch_force", sd.count);
-  sd.projected_from = axis_supports_from;
+  if (!axis_ring.empty()) sd.axis_ring = to_device_1d<int>("support_axis_ring", axis_ring);
 }
 
 void build_probes(Model& model) {

@@ -253,7 +253,7 @@ void Simulation::initial_forces() {
 
 bool Simulation::boundaries_act() const {
   const Model& m = model_;
-  if (m.supports.count > 0) return true;
+  if (m.supports.any()) return true;
   for (const BoundarySet& b : m.boundary_sets)
     if (b.type == Boundary::Type::bar) return true;
   return false;

@@ -30,9 +30,12 @@ struct SupportDofs {
   // interval that stops the node; 0 for a component not caught then), for the force record.
   View<double*> catch_force;
   int count = 0;
-  // Components [projected_from, count) also move a caught node back onto the plane: the axis of
-  // an axisymmetric scene, behind which a ring would have a negative radius (model.cpp).
-  int projected_from = 0x7fffffff;
+  // The axis of an axisymmetric scene (model.cpp): 1 for a node that, once a disc (a ring), has
+  // a push-only support on x = 0 along +x, which also moves a caught ring back onto the axis,
+  // behind which it would have a negative radius. Empty view: no such node. Per node, not a
+  // list of components, so that the sweep visits the discs alone (the particle list).
+  View<int*> axis_ring;
+  bool any() const { return count > 0 || axis_ring.extent(0) > 0; }
 };
 
 // The end of an elastic bar of impedance Z = rho_b c_b (Pa s/m) and cross-section A (m^2) on a
@@ -143,38 +146,61 @@ inline void prescribe(const Nodes& nodes, const PrescribedDofs& dofs, const Load
 // caught (the kick then zeroes their velocity). Returns the work of the catches (J, <= 0): the
 // kinetic energy m v^2 / 2 of the caught component, taken by a perfectly plastic impact; and
 // leaves in catch_force the impulse -m v of each catch over kick_interval (s, the interval the
-// evaluation's forces act over), so the force record carries it.
+// evaluation's forces act over), so the force record carries it. The rings' axis supports
+// (SupportDofs::axis_ring) act alike on the discs, and put a caught ring back on the axis.
 inline double update_supports(const Nodes& nodes, const SupportDofs& s,
                               const double kick_interval) {
-  if (s.count == 0) return 0.0;
   const auto fixed = nodes.fixed;
   const auto x = nodes.x;
   const auto v = nodes.v;
   const auto f = nodes.f;
   const auto f_ext = nodes.f_ext;
   const auto mass = nodes.mass;
-  const auto catch_force = s.catch_force;
-  const int projected_from = s.projected_from;
   double work = 0.0;
+  if (s.count > 0) {
+    const auto catch_force = s.catch_force;
+    Kokkos::parallel_reduce(
+        "fracta::update_supports", Kokkos::RangePolicy<ExecSpace>(0, s.count),
+        KOKKOS_LAMBDA(const int k, double& w) {
+          const int n = s.node(k), d = s.component(k);
+          const int bit = 1 << d;
+          const double sign = s.sign(k);
+          double caught = 0.0;
+          if (fixed(n) & bit) {
+            if (!UnilateralSupport::holds(sign, f(n, d) + f_ext(n, d))) fixed(n) &= ~bit;
+          } else if (UnilateralSupport::catches(sign, sign * (x(n, d) - s.plane(k)), v(n, d))) {
+            fixed(n) |= bit;
+            w -= 0.5 * mass(n) * v(n, d) * v(n, d);
+            caught = kick_interval > 0.0 ? -mass(n) * v(n, d) / kick_interval : 0.0;
+          }
+          catch_force(k) = caught;
+        },
+        work);
+  }
+  if (s.axis_ring.extent(0) == 0 || !nodes.has_discs_now()) return work;
+  // The axis acts on rings alone (elements resist it through their hoop rate v_r / r), so the
+  // sweep visits the particles, in increasing order, where the list is kept.
+  const auto axis_ring = s.axis_ring;
+  const auto particle = nodes.particle;
+  const auto particles = nodes.particle_list;
+  const bool listed = particles.extent(0) > 0;
+  double axis_work = 0.0;
   Kokkos::parallel_reduce(
-      "fracta::update_supports", Kokkos::RangePolicy<ExecSpace>(0, s.count),
+      "fracta::update_axis_supports",
+      Kokkos::RangePolicy<ExecSpace>(0, listed ? nodes.particle_count : nodes.count),
       KOKKOS_LAMBDA(const int k, double& w) {
-        const int n = s.node(k), d = s.component(k);
-        const int bit = 1 << d;
-        const double sign = s.sign(k);
-        double caught = 0.0;
-        if (fixed(n) & bit) {
-          if (!UnilateralSupport::holds(sign, f(n, d) + f_ext(n, d))) fixed(n) &= ~bit;
-        } else if (UnilateralSupport::catches(sign, sign * (x(n, d) - s.plane(k)), v(n, d))) {
-          fixed(n) |= bit;
-          if (k >= projected_from) x(n, d) = s.plane(k);
-          w -= 0.5 * mass(n) * v(n, d) * v(n, d);
-          caught = kick_interval > 0.0 ? -mass(n) * v(n, d) / kick_interval : 0.0;
+        const int n = listed ? particles(k) : k;
+        if (!axis_ring(n) || !particle(n)) return;
+        if (fixed(n) & kFixX) {
+          if (!UnilateralSupport::holds(1.0, f(n, 0) + f_ext(n, 0))) fixed(n) &= ~kFixX;
+        } else if (UnilateralSupport::catches(1.0, x(n, 0), v(n, 0))) {
+          fixed(n) |= kFixX;
+          x(n, 0) = 0.0;
+          w -= 0.5 * mass(n) * v(n, 0) * v(n, 0);
         }
-        catch_force(k) = caught;
       },
-      work);
-  return work;
+      axis_work);
+  return work + axis_work;
 }
 
 // The catch forces (update_supports) of the support components [begin, end) (N).
