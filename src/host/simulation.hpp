@@ -30,8 +30,8 @@ class Simulation {
   // One step. With defer_kick, the step's second half kick is left pending and done together
   // with the next step's first (one pass over the nodes instead of two): the velocities are
   // then half-step ones until finish_kick(), which every accessor of the state below calls
-  // first. Rigid bodies project between the two halves, and prescribed velocities are set after
-  // each half, so with either it never defers.
+  // first. Rigid bodies project once after the fused kick (their projection is linear), and
+  // prescribed velocities are set after each half, so with them it never defers.
   void step(bool defer_kick = false);
   void finish_kick();
   bool failed() const { return !failure_.empty(); }

@@ -885,14 +885,36 @@ struct BondForces {
 // a loading rate that changes over more than about ten steps.
 constexpr double kVelocityFilterWeight = 0.1;
 
+// v_f <- v_f + w (v - v_f) for the T-lane group of storage entries from `first` on.
+template <class T>
+KOKKOS_INLINE_FUNCTION void filter_lanes(const double* v, double* v_filtered, const int first) {
+  int index[LaneCount<T>::value];
+  for (int l = 0; l < LaneCount<T>::value; ++l) index[l] = first + l;
+  const T velocity = load_lanes<T>(v, index, true);
+  const T filtered = load_lanes<T>(v_filtered, index, true);
+  store_lanes(filtered + kVelocityFilterWeight * (velocity - filtered), v_filtered, index, true);
+}
+
 inline void filter_velocities(const Nodes& nodes) {
   if (nodes.v_filtered.extent(0) == 0) return;
-  const View<double*[2]> v = nodes.v, v_filtered = nodes.v_filtered;
+  // The same update for every component: a sweep over the two views' storage (of the same
+  // layout) in groups of kLanes entries, by NativeDouble lanes on CPUs; the (node, component)
+  // loop was not vectorised (3.5 % of the main job's instructions).
+  if (nodes.v.span() != nodes.v_filtered.span())
+    Kokkos::abort("filter_velocities: v and v_filtered differ in size");
+  const double* const v = nodes.v.data();
+  double* const v_filtered = nodes.v_filtered.data();
+  const int size = static_cast<int>(nodes.v_filtered.span());
   Kokkos::parallel_for(
-      "fracta::filter_velocities", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
-      KOKKOS_LAMBDA(const int n) {
-        for (int k = 0; k < 2; ++k)
-          v_filtered(n, k) += kVelocityFilterWeight * (v(n, k) - v_filtered(n, k));
+      "fracta::filter_velocities", Kokkos::RangePolicy<ExecSpace>(0, (size + kLanes - 1) / kLanes),
+      KOKKOS_LAMBDA(const int group) {
+        const int first = group * kLanes;
+        if (first + kLanes <= size) {
+          for (int c = first; c < first + kLanes; c += kNativeLanes)
+            filter_lanes<NativeDouble>(v, v_filtered, c);
+        } else {
+          for (int i = first; i < size; ++i) filter_lanes<double>(v, v_filtered, i);
+        }
       });
 }
 
