@@ -708,6 +708,11 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   }
   model.lattice_stiffness = to_device_1d<LatticeStiffness>("lattice_stiffness", stiffness);
   model.bond_laws = to_device_1d<BondLaw>("bond_laws", laws);
+  bonds.may_yield = bonds.may_soften = false;
+  for (const BondLaw& law : laws) {
+    bonds.may_yield = bonds.may_yield || law.springs().plastic();
+    bonds.may_soften = bonds.may_soften || law.softening().cohesive();
+  }
   // The volumetric cell term (cell_forces.hpp) where a convertible cell's material needs it:
   // beyond the pair lattice's Poisson limit. Other scenes allocate and launch nothing for it.
   bool cell_term = false;

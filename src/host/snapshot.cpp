@@ -69,6 +69,10 @@ void StateSnapshot::save(const Model& m, StateViews live) {
   for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
     if (saved_.size() <= index) saved_.emplace_back();
     Saved& s = saved_[index++];
+    if (state_view_constant(name, m.bonds)) {  // nothing to keep: restore leaves it alone
+      s = Saved();
+      return;
+    }
     const Rows rows = rows_to_keep(name, view, live, lists_, m.elements.count);
     auto& buffer = buffer_of(view, s);
     const int columns = columns_of(view);
@@ -98,8 +102,9 @@ void StateSnapshot::restore(Model& m, StateViews live) const {
   //    written again below.
   for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
     const StateRows kind = state_rows(name);
-    if (kind != StateRows::converted_cells && kind != StateRows::used_bonds &&
-        kind != StateRows::particles)
+    if ((kind != StateRows::converted_cells && kind != StateRows::used_bonds &&
+         kind != StateRows::particles) ||
+        state_view_constant(name, m.bonds))
       return;
     const Rows rows = rows_to_keep(name, view, live, now, elements);
     if (rows.map.list.extent(0) == 0) return;  // every row is saved
@@ -110,7 +115,9 @@ void StateSnapshot::restore(Model& m, StateViews live) const {
     size_t index = 0;
     for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
       const Saved& s = saved_[index++];
-      if ((state_rows(name) == StateRows::list_prefix) != lists) return;
+      if ((state_rows(name) == StateRows::list_prefix) != lists ||
+          state_view_constant(name, m.bonds))
+        return;
       const Rows rows = rows_to_keep(name, view, live, lists_, elements);
       scatter_rows(buffer_of(view, s), rows.map, s.rows, view);
     });

@@ -93,6 +93,17 @@ enum class StateRows {
   particles,        // the particles' rows; a node's are 0 until it becomes a disc
 };
 
+// Whether the view named `name` keeps its initial values (0) for the whole run, by the scene's
+// bond laws (Bonds::may_yield, may_soften): no step changes it, so no snapshot need copy it.
+// plastic_n is not among them: a conversion sets it for every law.
+inline bool state_view_constant(std::string_view name, const Bonds& bonds) {
+  if (!bonds.may_yield &&
+      (name == "bonds.plastic_s" || name == "bonds.hardening" || name == "bonds.plastic_work"))
+    return true;
+  return !bonds.may_soften && (name == "bonds.damage" || name == "bonds.onset_separation" ||
+                               name == "bonds.final_separation");
+}
+
 inline StateRows state_rows(std::string_view name) {
   auto is_one_of = [name](std::initializer_list<std::string_view> names) {
     for (std::string_view n : names)

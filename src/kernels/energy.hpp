@@ -73,16 +73,17 @@ inline LatticeTotals lattice_totals(const Nodes& nodes, const Bonds& bonds, doub
   t.rotational_time_discretization = n.v[1];
   t.particles = static_cast<long>(n.v[2] + 0.5);
   if (bonds.count > 0) {
+    const bool yields = bonds.may_yield, softens = bonds.may_soften;  // else those views are 0
     Sums<3> b;
     Kokkos::parallel_reduce(
         "fracta::bond_totals",
         Kokkos::RangePolicy<ExecSpace>(0, used_list ? bonds.used_count : bonds.count),
         KOKKOS_LAMBDA(const int j, Sums<3>& acc) {
           const int k = used_list ? used(j) : j;
-          acc.v[1] += bonds.plastic_work(k);
+          if (yields) acc.v[1] += bonds.plastic_work(k);
           if (bonds.state(k) != kBondActive) return;
-          acc.v[0] += CohesiveSoftening::stored_energy(bonds.fn(k), bonds.fs(k), bonds.damage(k),
-                                                       bonds.kn(k), bonds.ks(k));
+          acc.v[0] += CohesiveSoftening::stored_energy(
+              bonds.fn(k), bonds.fs(k), softens ? bonds.damage(k) : 0.0, bonds.kn(k), bonds.ks(k));
           acc.v[2] += 1.0;
         },
         Kokkos::Sum<Sums<3>>(b));

@@ -125,6 +125,7 @@ inline void pack_frame(const Nodes& nodes, const Elements& elements, const Bonds
     const auto state = bonds.state;
     const auto ends = bonds.nodes;
     const auto fn = bonds.fn, damage = bonds.damage;
+    const bool softens = bonds.may_soften;  // else every damage is 0
     Kokkos::parallel_scan(
         "fracta::frame_bonds", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
         KOKKOS_LAMBDA(const int b, int& k, const bool final) {
@@ -134,7 +135,7 @@ inline void pack_frame(const Nodes& nodes, const Elements& elements, const Bonds
             out.bond_nodes(2 * k + 1) = ends(b, 1);
             out.bond_state(k) = state(b);
             out.bond_normal_force(k) = fn(b);
-            out.bond_damage(k) = state(b) == kBondBroken ? 1.0 : damage(b);
+            out.bond_damage(k) = state(b) == kBondBroken ? 1.0 : softens ? damage(b) : 0.0;
           }
           ++k;
         });

@@ -230,6 +230,12 @@ struct Bonds {
   // every slot. Empty view when the model built no list: kernels then sweep every slot.
   View<int*> used;
   int used_count = 0;
+  // Whether some bond law can yield (bilinear springs) or soften (cohesive): without one, the
+  // plastic views (but plastic_n, which a conversion sets) or the cohesive views stay 0 for
+  // the whole run, so the failure snapshot keeps no copy of them and the sweeps that only sum
+  // them do not read them (their pages are then never touched).
+  bool may_yield = true;
+  bool may_soften = true;
 };
 
 // The bond list the kernels sweep: Bonds::used when it is a proper subset of the slots, else
