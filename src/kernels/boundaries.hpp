@@ -141,6 +141,27 @@ inline void prescribe(const Nodes& nodes, const PrescribedDofs& dofs, const Load
       });
 }
 
+// One support component: node n's component d, pushing along `sign` from `plane` (m). A held
+// component lets go when its forces pull it away; a free one at or behind the plane and moving
+// into it is caught (and, with `project`, put on the plane). Returns the velocity caught (m/s;
+// 0: no catch).
+template <class NodeInts, class NodeVectors>
+KOKKOS_INLINE_FUNCTION double update_support(const NodeInts& fixed, const NodeVectors& x,
+                                             const NodeVectors& v, const NodeVectors& f,
+                                             const NodeVectors& f_ext, const int n, const int d,
+                                             const double sign, const double plane,
+                                             const bool project) {
+  const int bit = 1 << d;
+  if (fixed(n) & bit) {
+    if (!UnilateralSupport::holds(sign, f(n, d) + f_ext(n, d))) fixed(n) &= ~bit;
+    return 0.0;
+  }
+  if (!UnilateralSupport::catches(sign, sign * (x(n, d) - plane), v(n, d))) return 0.0;
+  fixed(n) |= bit;
+  if (project) x(n, d) = plane;
+  return v(n, d);
+}
+
 // Before the second half kick, with the forces of this evaluation: held components whose
 // forces pull them away let go; free ones at or behind their plane and moving into it are
 // caught (the kick then zeroes their velocity). Returns the work of the catches (J, <= 0): the
@@ -162,18 +183,12 @@ inline double update_supports(const Nodes& nodes, const SupportDofs& s,
     Kokkos::parallel_reduce(
         "fracta::update_supports", Kokkos::RangePolicy<ExecSpace>(0, s.count),
         KOKKOS_LAMBDA(const int k, double& w) {
-          const int n = s.node(k), d = s.component(k);
-          const int bit = 1 << d;
-          const double sign = s.sign(k);
-          double caught = 0.0;
-          if (fixed(n) & bit) {
-            if (!UnilateralSupport::holds(sign, f(n, d) + f_ext(n, d))) fixed(n) &= ~bit;
-          } else if (UnilateralSupport::catches(sign, sign * (x(n, d) - s.plane(k)), v(n, d))) {
-            fixed(n) |= bit;
-            w -= 0.5 * mass(n) * v(n, d) * v(n, d);
-            caught = kick_interval > 0.0 ? -mass(n) * v(n, d) / kick_interval : 0.0;
-          }
-          catch_force(k) = caught;
+          const int n = s.node(k);
+          const double caught = update_support(fixed, x, v, f, f_ext, n, s.component(k), s.sign(k),
+                                               s.plane(k), false);
+          w -= 0.5 * mass(n) * caught * caught;
+          catch_force(k) =
+              caught != 0.0 && kick_interval > 0.0 ? -mass(n) * caught / kick_interval : 0.0;
         },
         work);
   }
@@ -191,13 +206,8 @@ inline double update_supports(const Nodes& nodes, const SupportDofs& s,
       KOKKOS_LAMBDA(const int k, double& w) {
         const int n = listed ? particles(k) : k;
         if (!axis_ring(n) || !particle(n)) return;
-        if (fixed(n) & kFixX) {
-          if (!UnilateralSupport::holds(1.0, f(n, 0) + f_ext(n, 0))) fixed(n) &= ~kFixX;
-        } else if (UnilateralSupport::catches(1.0, x(n, 0), v(n, 0))) {
-          fixed(n) |= kFixX;
-          x(n, 0) = 0.0;
-          w -= 0.5 * mass(n) * v(n, 0) * v(n, 0);
-        }
+        const double caught = update_support(fixed, x, v, f, f_ext, n, 0, 1.0, 0.0, true);
+        w -= 0.5 * mass(n) * caught * caught;
       },
       axis_work);
   return work + axis_work;

@@ -46,10 +46,9 @@ TEST(Rigid, FreeSpinningBodyStaysRigid) {
   EXPECT_NEAR(sim.history().energy.kinetic, ke0, 1e-9 * ke0);
 }
 
-// A rigid steel block strikes a free lattice block: linear momentum is exchanged through contact
-// only (conserved to round-off), the striker stays rigid, it slows down, and the energy balance
-// (contact damping, bond energy, fracture) closes within 1%.
-TEST(Rigid, RigidStrikerOnLatticeConservesMomentum) {
+// A rigid 4 mm steel block at 30 m/s, its left side at striker_x (m), about to strike the top
+// of an 8 x 8 mm concrete-like lattice block (1 mm cells, plane stress); 30 us.
+Case striker_on_lattice_case(const double striker_x) {
   const double h = 1e-3;
   Case c = test::rectangle_case(8, 8, h, 30e9, 0.2, 2400.0, Formulation::plane_stress);
   c.bodies[0].method = BodyMethod::de;
@@ -64,13 +63,21 @@ TEST(Rigid, RigidStrikerOnLatticeConservesMomentum) {
   s.material = "steel";
   s.material_index = 1;
   s.method = BodyMethod::rigid;
-  s.shape.x = 2e-3;
+  s.shape.x = striker_x;
   s.shape.y = 8 * h + 1.1 * h;
   s.shape.width = 4e-3;
   s.shape.height = 4e-3;
   s.initial_velocity = {0.0, -30.0};
   c.bodies.push_back(s);
   c.sim.end_time = 30e-6;
+  return c;
+}
+
+// A rigid steel block strikes a free lattice block: linear momentum is exchanged through contact
+// only (conserved to round-off), the striker stays rigid, it slows down, and the energy balance
+// (contact damping, bond energy, fracture) closes within 1%.
+TEST(Rigid, RigidStrikerOnLatticeConservesMomentum) {
+  const Case c = striker_on_lattice_case(2e-3);
   Simulation sim(c);
   const HistoryRecord h0 = sim.history();
   const double worst = test::run_to_end(sim);
@@ -92,27 +99,7 @@ TEST(Rigid, RigidStrikerOnLatticeConservesMomentum) {
 // lattice off its centre, so it turns and slows through contact; after 30 us (about 1,500
 // steps) the two runs' bodies agree to 1e-9 of their motion (round-off, grown through contact).
 TEST(Rigid, FusedKicksMoveTheBodyAsSeparateKicksDo) {
-  const double h = 1e-3;
-  Case c = test::rectangle_case(8, 8, h, 30e9, 0.2, 2400.0, Formulation::plane_stress);
-  c.bodies[0].method = BodyMethod::de;
-  c.bodies[0].name = "target";
-  Material steel = c.materials[0];
-  steel.name = "steel";
-  steel.density = 7800;
-  steel.youngs_modulus = 200e9;
-  c.materials.push_back(steel);
-  Body s = c.bodies[0];
-  s.name = "striker";
-  s.material = "steel";
-  s.material_index = 1;
-  s.method = BodyMethod::rigid;
-  s.shape.x = 5e-3;  // over the target's right half: the contact turns it
-  s.shape.y = 8 * h + 1.1 * h;
-  s.shape.width = 4e-3;
-  s.shape.height = 4e-3;
-  s.initial_velocity = {0.0, -30.0};
-  c.bodies.push_back(s);
-  c.sim.end_time = 30e-6;
+  const Case c = striker_on_lattice_case(5e-3);  // over the target's right half: it turns
   Simulation separate(c), fused(c);
   while (separate.time() < c.sim.end_time * (1 - 1e-12) && !separate.failed()) {
     separate.step(false);
