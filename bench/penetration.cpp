@@ -15,12 +15,14 @@
 // (none in a short window), the last-good-state snapshot every 100 steps.
 //
 // Usage: penetration --level L [--steps N] [--warmup W] [--base-cell H] [--gap CELLS]
-//                    [--case FILE] [--json FILE] [--kernels N]
+//                    [--case FILE] [--json FILE] [--kernels N] [--views 1]
 // Prints one human-readable line, the memory held in views after the window by entity (nodes,
 // elements, lattice cells, bonds, contact, the failure snapshot; allocated and resident, through
 // the Kokkos tools' allocation callbacks) and writes one JSON object (to --json or stdout).
 // --kernels N also prints the N kernels that took the most time in the window and the launches (by
 // kind) and deep copies per step, with and without conversion (stderr): a profiling aid.
+// --views 1 also prints every view's label with its allocated and resident bytes (stderr), the
+// largest first: where an entity's memory goes.
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -94,13 +96,15 @@ struct Options {
   double gap_cells = 1.02;
   std::string case_path = "cases/penetration.toml";  // relative to the repository root
   std::string json_path;
-  int kernels = 0;  // print the top kernels of the window
+  int kernels = 0;     // print the top kernels of the window
+  bool views = false;  // print every view's memory
 };
 
 [[noreturn]] void usage(const char* why) {
   std::fprintf(stderr,
                "penetration: %s\nusage: penetration --level L [--steps N] [--warmup W] "
-               "[--base-cell H] [--gap CELLS] [--case FILE] [--json FILE] [--kernels N]\n",
+               "[--base-cell H] [--gap CELLS] [--case FILE] [--json FILE] [--kernels N] "
+               "[--views 1]\n",
                why);
   std::exit(2);
 }
@@ -127,6 +131,8 @@ Options parse(int argc, char** argv) {
       o.json_path = v;
     else if (a == "--kernels")
       o.kernels = std::atoi(v);
+    else if (a == "--views")
+      o.views = std::atoi(v) != 0;
     else
       usage(("unknown option " + a).c_str());
   }
@@ -241,6 +247,17 @@ int main(int argc, char** argv) {
       view_mb[view_group(label)] += bytes / 1e6;
     for (const auto& [label, bytes] : bench::ViewMemory::resident())
       view_resident_mb[view_group(label)] += bytes / 1e6;
+    if (o.views) {
+      const auto allocated = bench::ViewMemory::allocated();
+      const auto resident = bench::ViewMemory::resident();
+      std::vector<std::pair<double, std::string>> by_size;
+      for (const auto& [label, bytes] : resident) by_size.emplace_back(bytes, label);
+      std::sort(by_size.rbegin(), by_size.rend());
+      std::fprintf(stderr, "%-44s %12s %12s\n", "view", "allocated MB", "resident MB");
+      for (const auto& [bytes, label] : by_size)
+        std::fprintf(stderr, "%-44s %12.3f %12.3f\n", label.c_str(), allocated.at(label) / 1e6,
+                     bytes / 1e6);
+    }
     double view_total_mb = 0, view_resident_total_mb = 0;
     for (const auto& [group, mb] : view_mb) view_total_mb += mb;
     for (const auto& [group, mb] : view_resident_mb) view_resident_total_mb += mb;
