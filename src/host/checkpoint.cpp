@@ -32,8 +32,10 @@ constexpr const char* kFormat = "fracta checkpoint";
 // 4: the FE dissipation sums; 5: bond slots in the bond kernel's order (build_lattice);
 // 6: the contact's discs are the boundary nodes and the particles (x_build has one row each);
 // 8: nodes.fixed (supports); 9: the Weibull strength factors (/strength), when drawn;
-// 10: the volumetric strains of the lattice's cell term (empty without it)
-constexpr std::int64_t kFormatVersion = 10;
+// 10: the volumetric strains of the lattice's cell term (empty without it); 11: views a scene
+// never uses are empty (the FE state of an all-de scene, the viscous hourglass form's
+// displacement)
+constexpr std::int64_t kFormatVersion = 11;
 
 using h5::Handle;
 

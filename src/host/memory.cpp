@@ -39,20 +39,24 @@ bool body_has_lattice(const Body& b) {
 // itemised (the run's host buffers: output frames, history, mirrors; transient copies while the
 // model is built). Calibrated on the peak RSS of `fracta run` (g++ 12 Release, OpenMP, 2
 // threads; a 30 x 60 mm plate, 45 000 and 180 000 cells, a few steps, two output frames):
-//   fe: measured 47.8 / 140.7 MB (17 MB + 690 B per cell), estimate 1.16-1.17 times that;
-//   de: measured 102.3 / 357.4 MB (17 MB + 1890 B per cell), estimate 1.15 times that.
-// tests/host/test_memory.cpp re-measures and requires 1 <= estimate / measured <= 1.6.
-constexpr double kBaseBytes = 20e6;  // Kokkos, HDF5, the executable: 17 MB measured
+//   fe: measured 46.7 / 122.3 MB (22 MB + 560 B per cell), estimate 1.07-1.10 times that;
+//   de: measured 83.0 / 263.2 MB (23 MB + 1335 B per cell), estimate 1.05-1.08 times that;
+//   adaptive (before it converts): 61.2 / 177.3 MB (22 MB + 860 B per cell), 1.07-1.10 times.
+// tests/host/test_memory.cpp re-measures and requires 1 <= estimate / measured <= 1.2.
+constexpr double kBaseBytes = 22e6;  // Kokkos, HDF5, the executable: 22 MB measured
 // Node: x0, x, v, f, f_ext (10 doubles), mass, fixed, body on the device; position and body in
 // the host mesh; the node-id grid and output/history buffers of a run.
 constexpr double kNodeBytes = 80 + 8 + 8 + 20 + 4 + 24;
-// Element: 4 nodes, material, body, active, alive; hourglass state and four work tallies;
-// host mesh copy (nodes, body, material, method) and output buffers.
-constexpr double kElementBytes = 32 + 64 + 28 + 24;
+// Element: 4 nodes, material, body, active, alive; the last hourglass force and four work
+// tallies; host mesh copy (nodes, body, material, method) and output buffers.
+constexpr double kElementBytes = 32 + 48 + 28 + 24;
+// The stiffness hourglass form's generalized displacement and its snapshot row (none for the
+// viscous form).
+constexpr double kStiffnessHourglassBytes = 2 * 16;
 // Quadrature point: stress (4), epeq, volume, bulk viscosity.
 constexpr double kQuadraturePointBytes = 56;
-// Not itemised, per cell of any body (measured 690 B per cell in all, 350 B itemised above).
-constexpr double kRunBytesPerCell = 450;
+// Not itemised, per cell of any body (measured 560 B per cell in all, 334 B itemised above).
+constexpr double kRunBytesPerCell = 290;
 // Nodes of any model with a lattice (a convertible body, or several bodies in contact): the
 // particle views (flags, radius, inertia, rotation, spin, moment, contact stiffness), topology
 // offsets, the stable-step cache (stale flag, bound), and the host lists build_lattice fills on
@@ -75,6 +79,22 @@ constexpr double kConvertibleCellBytes = 4 * (108 + 24) + 32 + 16 + 232 + 350;
 // peak RSS of the 30 x 60 mm plate at 0.1 mm cells, 402 MB as de against 188 MB as an adaptive
 // body that does not convert.
 constexpr double kConvertedCellBytes = 1190;
+// What a scene whose bodies are all de (nothing converts, no element is integrated) does not
+// hold, per cell: the FE state (model.cpp: the quadrature points' and hourglass views are empty,
+// 40 B + 56 B a point); in the failure snapshot, what only a conversion writes (state_views.hpp,
+// state_view_constant: each slot's kn, ks, area, material, used entry, plastic elongation and
+// rest length, 4 x 48 B; the cell's strain offset and list entries, 36 B; its nodes' particle
+// flags, list entries, radii, 20 B); the rest-length view, which is the reference length's
+// without yielding (4 x 8 B): 376 B itemised at one point. Measured: the de plate above peaks at
+// 1335 B per cell where the terms above give 2300 B; the estimate subtracts 848 B, the part
+// beyond the itemised one (the run's unitemised buffers, smaller for a lattice without FE state)
+// taken as measured, so that it stays about 1.08 times the measured peak.
+constexpr double kFeStateCellBytes = 40;
+constexpr double kAllDeCellSavingBytes = 848 - 96;  // besides the FE state (40 + 56 B)
+// The part of the terms above that a cell of an adaptive body takes only once it has converted,
+// beyond its start: the adaptive plate's peak before it converts (860 B per cell) against the
+// other terms (1110 B per cell), the estimate kept about 1.1 times the measured peak.
+constexpr double kAdaptiveStartSavingBytes = 146;
 // Weibull strengths: a factor per slot and the smallest per cell (heterogeneity.hpp).
 constexpr double kWeibullCellBytes = 4 * 8 + 8;
 // Law state of every quadrature point when a material keeps one (hjc, johnson_cook: 3 doubles),
@@ -121,6 +141,12 @@ MemoryEstimate estimate_memory(const Case& c) {
   // Allocated for every point of the mesh when any material keeps a state (model.cpp).
   const bool law_state = std::any_of(c.materials.begin(), c.materials.end(),
                                      [](const Material& m) { return m.keeps_law_state(); });
+  // Every body de: no element is integrated and nothing converts (model.cpp, state_views.hpp).
+  const bool all_de = std::all_of(c.bodies.begin(), c.bodies.end(), [](const Body& b) {
+    return b.method == BodyMethod::de &&
+           std::all_of(b.regions.begin(), b.regions.end(),
+                       [](const Region& r) { return r.method == BodyMethod::de; });
+  });
   double largest = -1;
   for (size_t i = 0; i < c.bodies.size(); ++i) {
     const BodyGrid g = body_grid(c.bodies[i]);
@@ -128,6 +154,10 @@ MemoryEstimate estimate_memory(const Case& c) {
     double bytes = nodes * kNodeBytes +
                    cells * (kElementBytes + qp * kQuadraturePointBytes + kRunBytesPerCell);
     if (law_state) bytes += cells * qp * kLawStatePointBytes;
+    if (c.sim.hourglass == HourglassForm::stiffness) bytes += cells * kStiffnessHourglassBytes;
+    if (all_de)
+      bytes -= cells * (kFeStateCellBytes + qp * kQuadraturePointBytes + kAllDeCellSavingBytes +
+                        (law_state ? qp * kLawStatePointBytes : 0.0));
     if (lattice) bytes += nodes * kLatticeNodeBytes + cells * kLatticeElementBytes;
     if (body_has_lattice(c.bodies[i])) {
       bytes += cells * kConvertibleCellBytes + nodes * kDiscBytes;
@@ -145,7 +175,8 @@ MemoryEstimate estimate_memory(const Case& c) {
     e.bytes_all_converted += bytes;
     // An adaptive body starts as FE: its cells' lattice state comes as they convert (a de
     // body's, and a de region's, is there from the start: counted as converted).
-    if (c.bodies[i].method == BodyMethod::adaptive) bytes -= cells * kConvertedCellBytes;
+    if (c.bodies[i].method == BodyMethod::adaptive)
+      bytes -= cells * (kConvertedCellBytes + kAdaptiveStartSavingBytes);
     e.bytes += bytes;
     if (bytes > largest) {
       largest = bytes;

@@ -570,8 +570,6 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   bonds.fn = sparse_zero_view<View<double*>>("fracta::bond_fn", nb);
   bonds.fs = sparse_zero_view<View<double*>>("fracta::bond_fs", nb);
   bonds.plastic_n = sparse_zero_view<View<double*>>("fracta::bond_plastic_n", nb);
-  // Set to length0 when a slot is activated (activate_element_bonds).
-  bonds.rest_length = sparse_zero_view<View<double*>>("fracta::bond_rest_length", nb);
   std::vector<double>().swap(length0);  // host arrays go as soon as their views exist
   bonds.plastic_s = sparse_zero_view<View<double*>>("fracta::bond_plastic_s", nb);
   bonds.hardening = sparse_zero_view<View<double*>>("fracta::bond_hardening", nb);
@@ -630,8 +628,10 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   for (int e = 0; e < ne; ++e) adaptive[e] = m.element_method[e] == BodyMethod::adaptive;
   model.element_adaptive = to_device_1d<int>("element_adaptive", adaptive);
   model.has_adaptive = std::count(adaptive.begin(), adaptive.end(), 1) > 0;
-  model.new_cells = View<int*>("fracta::new_cells", ne);
-  model.active_scratch = View<int*>("fracta::active_scratch", ne);
+  // The conversion's work space: none where nothing converts.
+  const int workspace = model.has_adaptive ? ne : 0;
+  model.new_cells = View<int*>("fracta::new_cells", workspace);
+  model.active_scratch = View<int*>("fracta::active_scratch", workspace);
 
   // Per-material lattice stiffness and bond law.
   std::vector<LatticeStiffness> stiffness;
@@ -713,6 +713,11 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
     bonds.may_yield = bonds.may_yield || law.springs().plastic();
     bonds.may_soften = bonds.may_soften || law.softening().cohesive();
   }
+  // Set to length0 when a slot is activated (activate_element_bonds); only a conversion and a
+  // yielding law change it after. Without either, it is length0 for the whole run: one view.
+  bonds.rest_length = model.has_adaptive || bonds.may_yield
+                          ? sparse_zero_view<View<double*>>("fracta::bond_rest_length", nb)
+                          : bonds.length0;
   // The volumetric cell term (cell_forces.hpp) where a convertible cell's material needs it:
   // beyond the pair lattice's Poisson limit. Other scenes allocate and launch nothing for it.
   bool cell_term = false;
@@ -1063,18 +1068,26 @@ Model build_model(const Case& c) {
   el.rigid_count = static_cast<int>(rigid.size());
   el.rigid = to_device_1d<int>("element_rigid", rigid);
   el.alive = to_device_1d<int>("element_alive", alive);
-  el.stress = decltype(el.stress)("fracta::qp_stress", static_cast<size_t>(ne) * qp);
-  el.epeq = View<double*>("fracta::qp_epeq", static_cast<size_t>(ne) * qp);
-  el.qp_volume = View<double*>("fracta::qp_volume", static_cast<size_t>(ne) * qp);
-  el.bulk_viscosity = View<double*>("fracta::qp_bulk_viscosity", static_cast<size_t>(ne) * qp);
+  // The FE state. A scene whose elements are all de cells (no FE, rigid or adaptive element)
+  // never integrates, reads or writes it: empty there (the force, stable-step, frame and energy
+  // loops run over the active and rigid lists, and a de cell is never alive).
+  const bool integrates = std::any_of(m.element_method.begin(), m.element_method.end(),
+                                      [](BodyMethod method) { return method != BodyMethod::de; });
+  const size_t fe_rows = integrates ? static_cast<size_t>(ne) : 0;
+  el.stress = decltype(el.stress)("fracta::qp_stress", fe_rows * qp);
+  el.epeq = View<double*>("fracta::qp_epeq", fe_rows * qp);
+  el.qp_volume = View<double*>("fracta::qp_volume", fe_rows * qp);
+  el.bulk_viscosity = View<double*>("fracta::qp_bulk_viscosity", fe_rows * qp);
   // The state of laws that keep one (hjc, johnson_cook), zero: intact, at rest density, at room
   // temperature.
   if (std::any_of(c.materials.begin(), c.materials.end(),
                   [](const Material& mat) { return mat.keeps_law_state(); }))
-    el.law_state = View<double* [3]>("fracta::qp_law_state", static_cast<size_t>(ne) * qp);
-  el.hourglass_disp = decltype(el.hourglass_disp)("fracta::element_hourglass_disp", ne);
-  el.hourglass_force = decltype(el.hourglass_force)("fracta::element_hourglass_force", ne);
-  el.recoverable_work = View<double*>("fracta::element_recoverable_work", ne);
+    el.law_state = View<double* [3]>("fracta::qp_law_state", fe_rows * qp);
+  // The generalized hourglass displacement is the stiffness form's alone (fe_forces.hpp).
+  el.hourglass_disp = decltype(el.hourglass_disp)(
+      "fracta::element_hourglass_disp", c.sim.hourglass == HourglassForm::stiffness ? fe_rows : 0);
+  el.hourglass_force = decltype(el.hourglass_force)("fracta::element_hourglass_force", fe_rows);
+  el.recoverable_work = View<double*>("fracta::element_recoverable_work", fe_rows);
   // Reference sum b.b of the centre gradients, for the distortion criterion of adaptive bodies.
   if (std::count(m.element_method.begin(), m.element_method.end(), BodyMethod::adaptive) > 0) {
     std::vector<double> norm2(ne);

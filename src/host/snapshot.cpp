@@ -43,6 +43,9 @@ Rows rows_to_keep(std::string_view name, const V& view, const StateViews& lists,
       if (lists.nodes.particle_list.extent(0) > 0)
         return {{lists.nodes.particle_list, 1}, lengths.particles};
       break;
+    case StateRows::contact_discs:
+      if (lists.has_contact) return {{lists.contact_discs, 1}, lists.contact_disc_count};
+      break;
     case StateRows::all:
       break;
   }
@@ -65,11 +68,23 @@ auto& buffer_of(const V&, S& s) {
 
 void StateSnapshot::save(const Model& m, StateViews live) {
   lists_ = ListCounts::of(m);
+  // The contact's discs are no state view: their list is kept here, as the rows to restore.
+  contact_disc_count_ = live.has_contact ? live.contact_disc_count : 0;
+  if (static_cast<int>(contact_discs_.extent(0)) < contact_disc_count_) {
+    contact_discs_ = View<int*>();
+    contact_discs_ =
+        View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "contact_discs_snapshot"),
+                   contact_disc_count_ + contact_disc_count_ / 2);
+  }
+  if (contact_disc_count_ > 0)
+    Kokkos::deep_copy(Kokkos::subview(contact_discs_, std::make_pair(0, contact_disc_count_)),
+                      Kokkos::subview(live.contact_discs, std::make_pair(0, contact_disc_count_)));
   size_t index = 0;
   for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
     if (saved_.size() <= index) saved_.emplace_back();
     Saved& s = saved_[index++];
-    if (state_view_constant(name, m.bonds)) {  // nothing to keep: restore leaves it alone
+    if (state_view_constant(name, m.bonds,
+                            m.has_adaptive)) {  // nothing to keep: restore leaves it alone
       s = Saved();
       return;
     }
@@ -103,22 +118,25 @@ void StateSnapshot::restore(Model& m, StateViews live) const {
   for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
     const StateRows kind = state_rows(name);
     if ((kind != StateRows::converted_cells && kind != StateRows::used_bonds &&
-         kind != StateRows::particles) ||
-        state_view_constant(name, m.bonds))
+         kind != StateRows::particles && kind != StateRows::contact_discs) ||
+        state_view_constant(name, m.bonds, m.has_adaptive))
       return;
     const Rows rows = rows_to_keep(name, view, live, now, elements);
     if (rows.map.list.extent(0) == 0) return;  // every row is saved
     reset_rows(view, rows.map, rows.count);
   });
-  // 2. The lists, then 3. every other view's rows through them.
+  // 2. The lists, then 3. every other view's rows through them (the contact's discs: as saved).
+  StateViews saved_lists = live;
+  saved_lists.contact_discs = contact_discs_;
+  saved_lists.contact_disc_count = contact_disc_count_;
   for (const bool lists : {true, false}) {
     size_t index = 0;
     for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
       const Saved& s = saved_[index++];
       if ((state_rows(name) == StateRows::list_prefix) != lists ||
-          state_view_constant(name, m.bonds))
+          state_view_constant(name, m.bonds, m.has_adaptive))
         return;
-      const Rows rows = rows_to_keep(name, view, live, lists_, elements);
+      const Rows rows = rows_to_keep(name, view, saved_lists, lists_, elements);
       scatter_rows(buffer_of(view, s), rows.map, s.rows, view);
     });
   }
@@ -126,7 +144,7 @@ void StateSnapshot::restore(Model& m, StateViews live) const {
 }
 
 double StateSnapshot::bytes() const {
-  double total = 0;
+  double total = contact_discs_.span() * sizeof(int);
   for (const Saved& s : saved_)
     total += s.reals.span() * sizeof(double) + s.ints.span() * sizeof(int);
   return total;

@@ -1,10 +1,10 @@
 // The last good state of a run, kept so that a numerical failure can write it (simulation.cpp:
 // save_snapshot, restore_snapshot). Lean: of each view a step mutates (state_views.hpp) it keeps
 // only the rows a step can change (state_rows): the active elements', the used bond slots', the
-// converted cells', the particles' and the used part of each list, so a large adaptive body
-// that has barely converted keeps no copy of its millions of inactive bond slots. Restoring puts
-// back the saved rows and returns every row that joined a list since to its value before
-// joining, so the state is the saved one, bit for bit.
+// converted cells', the particles', the contact discs' and the used part of each list, so a large
+// adaptive body that has barely converted keeps no copy of its millions of inactive bond slots.
+// Restoring puts back the saved rows and returns every row that joined a list since to its value
+// before joining, so the state is the saved one, bit for bit.
 #pragma once
 #include <string>
 #include <string_view>
@@ -36,6 +36,8 @@ class StateSnapshot {
   };
   std::vector<Saved> saved_;  // one per state view, in for_each_state_view's order
   ListCounts lists_;
+  View<int*> contact_discs_;  // the contact's discs at the save (StateViews::contact_discs)
+  int contact_disc_count_ = 0;
 };
 
 }  // namespace fracta

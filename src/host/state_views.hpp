@@ -21,6 +21,12 @@ struct StateViews {
   Bonds bonds;
   View<int*> converted;                      // converted cells, in conversion order
   View<double* [3]> contact_force_previous;  // contact (fx, fy, moment) of the last evaluation
+  // Not a state view: the contact's discs (node ids, increasing; ContactSystem::discs), the only
+  // rows of contact_force_previous a step writes. They only grow between restores (the boundary
+  // nodes of the FE bodies and the particles).
+  View<const int*> contact_discs;
+  int contact_disc_count = 0;
+  bool has_contact = false;
 };
 
 // Calls f(name, live_view, other_view) for every view a step mutates, in a fixed order; `name`
@@ -91,17 +97,39 @@ enum class StateRows {
   converted_cells,  // the converted cells' rows; a cell's are its initial ones until it converts
   used_bonds,       // the used slots' rows; a slot's are its initial ones until it is activated
   particles,        // the particles' rows; a node's are 0 until it becomes a disc
+  contact_discs,    // the contact discs' rows (StateViews::contact_discs); 0 until it is one
 };
 
-// Whether the view named `name` keeps its initial values (0) for the whole run, by the scene's
-// bond laws (Bonds::may_yield, may_soften): no step changes it, so no snapshot need copy it.
-// plastic_n is not among them: a conversion sets it for every law.
-inline bool state_view_constant(std::string_view name, const Bonds& bonds) {
-  if (!bonds.may_yield &&
-      (name == "bonds.plastic_s" || name == "bonds.hardening" || name == "bonds.plastic_work"))
+// Whether the view named `name` keeps its value for the whole run, so that no snapshot need
+// copy it:
+// - by the scene's bond laws (Bonds::may_yield, may_soften): without them the plastic and
+//   cohesive state stays 0. plastic_n and rest_length are not among them: a conversion sets them
+//   for every law;
+// - by whether anything can convert (`may_convert`, Model::has_adaptive): without conversion,
+//   the views that only a conversion writes (conversion.hpp, Simulation::convert_elements: slot
+//   activation and stiffnesses, the disc and cell lists, radii, the cells' strain offsets) keep
+//   their set-up values, as do plastic_n and rest_length without a yielding law;
+// - nodes.contact_disc is set up once and never written.
+// A step that wrote one of them anyway would show in the restore tests
+// (Simulation.RestoreGivesTheSavedStateBitForBit and its lattice-only twin).
+inline bool state_view_constant(std::string_view name, const Bonds& bonds, bool may_convert) {
+  auto is_one_of = [name](std::initializer_list<std::string_view> names) {
+    for (std::string_view n : names)
+      if (n == name) return true;
+    return false;
+  };
+  if (name == "nodes.contact_disc") return true;
+  if (!bonds.may_yield && is_one_of({"bonds.plastic_s", "bonds.hardening", "bonds.plastic_work"}))
     return true;
-  return !bonds.may_soften && (name == "bonds.damage" || name == "bonds.onset_separation" ||
-                               name == "bonds.final_separation");
+  if (!bonds.may_soften &&
+      is_one_of({"bonds.damage", "bonds.onset_separation", "bonds.final_separation"}))
+    return true;
+  if (may_convert) return false;
+  if (!bonds.may_yield && is_one_of({"bonds.plastic_n", "bonds.rest_length"})) return true;
+  return is_one_of({"bonds.material", "bonds.kn", "bonds.ks", "bonds.area", "bonds.used",
+                    "nodes.particle", "nodes.particle_list", "nodes.radius",
+                    "elements.cell_strain_offset", "elements.active", "elements.alive",
+                    "converted"});
 }
 
 inline StateRows state_rows(std::string_view name) {
@@ -119,12 +147,12 @@ inline StateRows state_rows(std::string_view name) {
     return StateRows::converted_cells;
   if (is_one_of({"nodes.particle", "nodes.rotation", "nodes.spin", "nodes.moment"}))
     return StateRows::particles;
+  if (name == "contact_force_previous") return StateRows::contact_discs;
   if (is_one_of({"elements.stress", "elements.epeq", "elements.qp_volume",
                  "elements.bulk_viscosity", "elements.law_state", "elements.hourglass_disp",
                  "elements.hourglass_force", "elements.recoverable_work", "elements.alive"}))
     return StateRows::active_elements;
-  return StateRows::all;  // positions, velocities, forces, supports, radii, contact forces,
-                          // cracked flags
+  return StateRows::all;  // positions, velocities, forces, supports, radii, cracked flags
 }
 
 }  // namespace fracta

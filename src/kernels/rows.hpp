@@ -9,7 +9,7 @@ namespace fracta {
 // Row r of a buffer holds row list(r / per) * per + r % per of the view (per: the view's rows
 // per list entry, e.g. an element's quadrature points), or row r itself without a list.
 struct RowMap {
-  View<int*> list;  // empty: the identity
+  View<const int*> list;  // empty: the identity
   int per = 1;
   KOKKOS_INLINE_FUNCTION int operator()(const int r) const {
     return list.extent(0) == 0 ? r : list(r / per) * per + r % per;

@@ -197,7 +197,8 @@ struct Bonds {
   View<double*> fs;         // shear force (N)
   View<double*> plastic_n;  // plastic elongation (m) of the bilinear normal spring
   // Natural length of the normal spring, length0 + plastic_n (m), kept by every writer of
-  // plastic_n: elastic springs read this one value instead of two (bond_forces.hpp).
+  // plastic_n: elastic springs read this one value instead of two (bond_forces.hpp). The same
+  // view as length0 in a scene that neither converts nor yields (build_lattice).
   View<double*> rest_length;
   View<double*> plastic_s;     // plastic slip (m) of the bilinear shear spring
   View<double*> hardening;     // accumulated plastic displacement (m), isotropic hardening
