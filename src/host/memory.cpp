@@ -83,12 +83,12 @@ constexpr double kConvertedCellBytes = 1190;
 // hold, per cell: the FE state (model.cpp: the quadrature points' and hourglass views are empty,
 // 40 B + 56 B a point); in the failure snapshot, what only a conversion writes (state_views.hpp,
 // state_view_constant: each slot's kn, ks, area, material, used entry, plastic elongation and
-// rest length, 4 x 48 B; the cell's strain offset and list entries, 36 B; its nodes' particle
-// flags, list entries, radii, 20 B); the rest-length view, which is the reference length's
-// without yielding (4 x 8 B): 376 B itemised at one point. Measured: the de plate above peaks at
-// 1335 B per cell where the terms above give 2300 B; the estimate subtracts 848 B, the part
-// beyond the itemised one (the run's unitemised buffers, smaller for a lattice without FE state)
-// taken as measured, so that it stays about 1.08 times the measured peak.
+// rest length, 4 x 48 B; the cell's strain offset (and the view itself) and list entries, 60 B;
+// its nodes' particle flags, list entries, radii, 20 B); the rest-length view, which is the
+// reference length's without yielding (4 x 8 B): 400 B itemised at one point. Measured: the de
+// plate above peaks at 1335 B per cell where the terms above give 2300 B; the estimate subtracts
+// 848 B, the part beyond the itemised one (the run's unitemised buffers, smaller for a lattice
+// without FE state) taken as measured, so that it stays about 1.08 times the measured peak.
 constexpr double kFeStateCellBytes = 40;
 constexpr double kAllDeCellSavingBytes = 848 - 96;  // besides the FE state (40 + 56 B)
 // The part of the terms above that a cell of an adaptive body takes only once it has converted,

@@ -617,8 +617,6 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   model.elements.cell_stress = sparse_zero_view<View<double* [3]>>("fracta::cell_stress", ne);
   model.elements.cell_state = sparse_zero_view<View<int*>>("fracta::cell_state", ne);
   model.elements.cell_cracked = sparse_zero_view<View<int*>>("fracta::cell_cracked", ne);
-  model.elements.cell_strain_offset =
-      sparse_zero_view<View<double* [3]>>("fracta::cell_strain_offset", ne);
   // Capacity for every cell: adaptive conversion appends to the list.
   std::vector<int> converted_all(converted);
   converted_all.resize(ne, -1);
@@ -628,6 +626,9 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   for (int e = 0; e < ne; ++e) adaptive[e] = m.element_method[e] == BodyMethod::adaptive;
   model.element_adaptive = to_device_1d<int>("element_adaptive", adaptive);
   model.has_adaptive = std::count(adaptive.begin(), adaptive.end(), 1) > 0;
+  // Set when a cell converts, 0 for a de cell: empty where nothing converts (read as 0).
+  model.elements.cell_strain_offset = sparse_zero_view<View<double* [3]>>(
+      "fracta::cell_strain_offset", model.has_adaptive ? ne : 0);
   // The conversion's work space: none where nothing converts.
   const int workspace = model.has_adaptive ? ne : 0;
   model.new_cells = View<int*>("fracta::new_cells", workspace);

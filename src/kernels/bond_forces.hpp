@@ -120,8 +120,10 @@ struct CellStress {
       x[a] = nodes.x(n, 0);
       y[a] = nodes.x(n, 1);
     }
-    const double offset[3] = {elements.cell_strain_offset(e, 0), elements.cell_strain_offset(e, 1),
-                              elements.cell_strain_offset(e, 2)};
+    // No offsets where nothing converts (build_lattice): 0, and the strain is exactly the same.
+    double offset[3] = {0.0, 0.0, 0.0};
+    if (elements.cell_strain_offset.extent(0) > 0)
+      for (int k = 0; k < 3; ++k) offset[k] = elements.cell_strain_offset(e, k);
     double stress[3];
     const double scale = elements.cell_inverse_strength_scale.extent(0) > 0
                              ? elements.cell_inverse_strength_scale(e)
@@ -144,7 +146,10 @@ struct CellStress {
       load_pairs(&nodes.x0(0, 0) + 2 * node[a][0], x0[a], y0[a]);
       load_pairs(&nodes.x(0, 0) + 2 * node[a][0], x[a], y[a]);
     }
-    load_triples(&elements.cell_strain_offset(e0, 0), offset[0], offset[1], offset[2]);
+    if (elements.cell_strain_offset.extent(0) > 0)
+      load_triples(&elements.cell_strain_offset(e0, 0), offset[0], offset[1], offset[2]);
+    else
+      offset[0] = offset[1] = offset[2] = splat<Double8>(0.0);
     int cell[8];
     for (int l = 0; l < 8; ++l) cell[l] = e0 + l;
     const Double8 scale =
@@ -164,7 +169,9 @@ struct CellStress {
     // (Not rings: their hoop term's share is added cell by cell.)
     if (row_batches && elements.cell_hoop.extent(0) == 0 && first + kLanes <= count &&
         nodes.x.stride_0() == 2 && nodes.x0.stride_0() == 2 &&
-        elements.cell_stress.stride_0() == 3 && elements.cell_strain_offset.stride_0() == 3) {
+        elements.cell_stress.stride_0() == 3 &&
+        (elements.cell_strain_offset.extent(0) == 0 ||
+         elements.cell_strain_offset.stride_0() == 3)) {
       int node[4][8];
       bool row = true;
       const int e0 = cells(first);

@@ -99,6 +99,14 @@ TEST(TaylorImpact, Steel4340At208MetersPerSecondFinalLength) {
 // stresses of a few 100 MPa give |dV/V| < 1e-3); energy balance within 1 %. Regression: final
 // length 17.30 mm and footprint 14.58 mm at these cells, within 0.5 % (the experiment's 16.2
 // and 13.6 mm are 6.7 % and 7 % away; docs/validation.md).
+// Oracle, code to code: an independent Johnson-Cook solver in 3D (eight-node hexahedra, one-point
+// integration, Mie-Gruneisen pressure; the same strength constants, heating at a Taylor-Quinney
+// fraction of 0.9, a frictionless rigid anvil) reports 17.40 mm and a largest diameter of 14.6 mm,
+// unchanged between two meshes, and its particle solver a length 0.9 % shorter
+// (github.com/molanocortes/OpenPhysicsAI, docs/lab/impact.md; unreviewed). Within 2 % in length
+// and 3 % in diameter (its two methods differ by 0.9 % and 0.5 %; its pressure is stiffer than
+// the linear one here: bulk modulus 139 against 129 GPa): measured -0.6 % and -0.1 %. So the
+// rod's excess length over the test is the model's (the constants), not the integration's.
 TEST(TaylorImpact, CopperConservesMassAndVolume) {
   const TaylorResult r = run_taylor("taylor_copper.toml");
   const double R = 3.81e-3, L = 25.4e-3, rho = 8960.0;
@@ -112,6 +120,8 @@ TEST(TaylorImpact, CopperConservesMassAndVolume) {
   EXPECT_LT(r.worst_energy_error, 0.01);
   EXPECT_NEAR(r.length, 17.30e-3, 0.005 * 17.30e-3);     // regression
   EXPECT_NEAR(r.footprint, 14.58e-3, 0.005 * 14.58e-3);  // regression
+  EXPECT_NEAR(r.length, 17.40e-3, 0.02 * 17.40e-3);      // another code
+  EXPECT_NEAR(r.footprint, 14.6e-3, 0.03 * 14.6e-3);     // another code
   std::printf(
       "copper at 190 m/s: final length %.3f mm, footprint %.3f mm, dV/V %.3g, impulse "
       "%.6g vs momentum change %.6g N s\n",
