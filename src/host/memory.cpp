@@ -77,7 +77,8 @@ constexpr double kConvertibleCellBytes = 4 * (108 + 24) + 32 + 16 + 232 + 350;
 // entry: 112 B each) and their rows in the failure snapshot, the cell's lattice state and its
 // snapshot rows (60 + 60 B), its corners' rotation and spin: 1090 B itemised. Measured 1190 B:
 // peak RSS of the 30 x 60 mm plate at 0.1 mm cells, 402 MB as de against 188 MB as an adaptive
-// body that does not convert.
+// body that does not convert, when a de body still held what a converted adaptive cell holds
+// (the FE state, every slot's rows in the snapshot; now it does not: kAllDeCellSavingBytes).
 constexpr double kConvertedCellBytes = 1190;
 // What a scene whose bodies are all de (nothing converts, no element is integrated) does not
 // hold, per cell: the FE state (model.cpp: the quadrature points' and hourglass views are empty,
