@@ -39,9 +39,11 @@ bool body_has_lattice(const Body& b) {
 // itemised (the run's host buffers: output frames, history, mirrors; transient copies while the
 // model is built). Calibrated on the peak RSS of `fracta run` (g++ 12 Release, OpenMP, 2
 // threads; a 30 x 60 mm plate, 45 000 and 180 000 cells, a few steps, two output frames):
-//   fe: measured 46.7 / 122.3 MB (22 MB + 560 B per cell), estimate 1.07-1.10 times that;
-//   de: measured 83.0 / 263.2 MB (23 MB + 1335 B per cell), estimate 1.05-1.08 times that;
-//   adaptive (before it converts): 61.2 / 177.3 MB (22 MB + 860 B per cell), 1.07-1.10 times.
+//   fe: measured 46.7 / 122.3 MB (22 MB + 560 B per cell);
+//   de: measured 83.0 / 263.2 MB (23 MB + 1335 B per cell);
+//   adaptive (before it converts): 61.2 / 177.3 MB (22 MB + 860 B per cell).
+// Repeated runs of one case peak up to 6 % apart (fe 122-128 MB, adaptive 173-183 MB): the
+// estimate is set to about 1.1 times the middle of that spread, 1.05-1.15 times each run.
 // tests/host/test_memory.cpp re-measures and requires 1 <= estimate / measured <= 1.2.
 constexpr double kBaseBytes = 22e6;  // Kokkos, HDF5, the executable: 22 MB measured
 // Node: x0, x, v, f, f_ext (10 doubles), mass, fixed, body on the device; position and body in
@@ -55,8 +57,9 @@ constexpr double kElementBytes = 32 + 48 + 28 + 24;
 constexpr double kStiffnessHourglassBytes = 2 * 16;
 // Quadrature point: stress (4), epeq, volume, bulk viscosity.
 constexpr double kQuadraturePointBytes = 56;
-// Not itemised, per cell of any body (measured 560 B per cell in all, 334 B itemised above).
-constexpr double kRunBytesPerCell = 290;
+// Not itemised, per cell of any body (measured 560 B per cell in all, 334 B itemised above;
+// about 1.1 times the rest).
+constexpr double kRunBytesPerCell = 310;
 // Nodes of any model with a lattice (a convertible body, or several bodies in contact): the
 // particle views (flags, radius, inertia, rotation, spin, moment, contact stiffness), topology
 // offsets, the stable-step cache (stale flag, bound), and the host lists build_lattice fills on
