@@ -808,9 +808,13 @@ const FrameData& Simulation::frame(const std::vector<std::string>& fields) {
 }
 
 StateViews Simulation::state_views() {
-  StateViews v{model_.nodes, model_.elements, model_.bonds, model_.converted, contact_force_prev_};
+  StateViews v;
+  v.nodes = model_.nodes;
+  v.elements = model_.elements;
+  v.bonds = model_.bonds;
+  v.converted = model_.converted;
+  v.contact_force_previous = contact_force_prev_;
   if (model_.contacts) {
-    v.has_contact = true;
     v.contact_discs = model_.contacts->discs();
     v.contact_disc_count = model_.contacts->disc_count();
   }

@@ -44,8 +44,8 @@ Rows rows_to_keep(std::string_view name, const V& view, const StateViews& lists,
         return {{lists.nodes.particle_list, 1}, lengths.particles};
       break;
     case StateRows::contact_discs:
-      if (lists.has_contact) return {{lists.contact_discs, 1}, lists.contact_disc_count};
-      break;
+      // (No contact: the view is empty, above.)
+      return {{lists.contact_discs, 1}, lists.contact_disc_count};
     case StateRows::all:
       break;
   }
@@ -64,18 +64,30 @@ auto& buffer_of(const V&, S& s) {
     return s.ints;
 }
 
+// Room in `buffer` for `rows` rows of `columns` (rank 2) or for `rows` entries (rank 1). Grown
+// by half again beyond the need, so that a list growing by a few entries between saves does not
+// reallocate at every save.
+template <class Buffer>
+void reserve_rows(Buffer& buffer, const int rows, const int columns, const std::string& label) {
+  const int old_rows = static_cast<int>(buffer.extent(0));
+  if (old_rows >= rows && (Buffer::rank == 1 || static_cast<int>(buffer.extent(1)) == columns))
+    return;
+  const int capacity = old_rows == 0 ? rows : std::max(rows, old_rows + old_rows / 2);
+  buffer = Buffer();  // free the old one first
+  const auto alloc = Kokkos::view_alloc(Kokkos::WithoutInitializing, label);
+  if constexpr (Buffer::rank == 1)
+    buffer = Buffer(alloc, capacity);
+  else
+    buffer = Buffer(alloc, capacity, columns);
+}
+
 }  // namespace
 
 void StateSnapshot::save(const Model& m, StateViews live) {
   lists_ = ListCounts::of(m);
   // The contact's discs are no state view: their list is kept here, as the rows to restore.
-  contact_disc_count_ = live.has_contact ? live.contact_disc_count : 0;
-  if (static_cast<int>(contact_discs_.extent(0)) < contact_disc_count_) {
-    contact_discs_ = View<int*>();
-    contact_discs_ =
-        View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "contact_discs_snapshot"),
-                   contact_disc_count_ + contact_disc_count_ / 2);
-  }
+  contact_disc_count_ = live.contact_disc_count;
+  reserve_rows(contact_discs_, contact_disc_count_, 1, "contact_discs_snapshot");
   if (contact_disc_count_ > 0)
     Kokkos::deep_copy(Kokkos::subview(contact_discs_, std::make_pair(0, contact_disc_count_)),
                       Kokkos::subview(live.contact_discs, std::make_pair(0, contact_disc_count_)));
@@ -83,27 +95,13 @@ void StateSnapshot::save(const Model& m, StateViews live) {
   for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
     if (saved_.size() <= index) saved_.emplace_back();
     Saved& s = saved_[index++];
-    if (state_view_constant(name, m.bonds,
-                            m.has_adaptive)) {  // nothing to keep: restore leaves it alone
-      s = Saved();
+    if (state_view_constant(name, m.bonds, m.has_adaptive)) {
+      s = Saved();  // nothing to keep: restore leaves it alone
       return;
     }
     const Rows rows = rows_to_keep(name, view, live, lists_, m.elements.count);
     auto& buffer = buffer_of(view, s);
-    const int columns = columns_of(view);
-    if (static_cast<int>(buffer.extent(0)) < rows.count ||
-        static_cast<int>(buffer.extent(1)) != columns) {
-      // Grown by half again beyond the need, so that a list growing by a few entries between
-      // saves does not reallocate at every save.
-      const int old_rows = static_cast<int>(buffer.extent(0));
-      const int capacity =
-          old_rows == 0 ? rows.count : std::max(rows.count, old_rows + old_rows / 2);
-      using Buffer = std::decay_t<decltype(buffer)>;
-      buffer = Buffer();  // free the old one first
-      buffer =
-          Buffer(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string(name) + "_snapshot"),
-                 capacity, columns);
-    }
+    reserve_rows(buffer, rows.count, columns_of(view), std::string(name) + "_snapshot");
     gather_rows(view, rows.map, rows.count, buffer);
     s.rows = rows.count;
   });

@@ -26,7 +26,6 @@ struct StateViews {
   // nodes of the FE bodies and the particles).
   View<const int*> contact_discs;
   int contact_disc_count = 0;
-  bool has_contact = false;
 };
 
 // Calls f(name, live_view, other_view) for every view a step mutates, in a fixed order; `name`
@@ -100,6 +99,13 @@ enum class StateRows {
   contact_discs,    // the contact discs' rows (StateViews::contact_discs); 0 until it is one
 };
 
+// Whether `name` is one of `names` (the state views' names below).
+inline bool is_one_of(std::string_view name, std::initializer_list<std::string_view> names) {
+  for (std::string_view n : names)
+    if (n == name) return true;
+  return false;
+}
+
 // Whether the view named `name` keeps its value for the whole run, so that no snapshot need
 // copy it:
 // - by the scene's bond laws (Bonds::may_yield, may_soften): without them the plastic and
@@ -113,44 +119,35 @@ enum class StateRows {
 // A step that wrote one of them anyway would show in the restore tests
 // (Simulation.RestoreGivesTheSavedStateBitForBit and its lattice-only twin).
 inline bool state_view_constant(std::string_view name, const Bonds& bonds, bool may_convert) {
-  auto is_one_of = [name](std::initializer_list<std::string_view> names) {
-    for (std::string_view n : names)
-      if (n == name) return true;
-    return false;
-  };
   if (name == "nodes.contact_disc") return true;
-  if (!bonds.may_yield && is_one_of({"bonds.plastic_s", "bonds.hardening", "bonds.plastic_work"}))
+  if (!bonds.may_yield &&
+      is_one_of(name, {"bonds.plastic_s", "bonds.hardening", "bonds.plastic_work"}))
     return true;
   if (!bonds.may_soften &&
-      is_one_of({"bonds.damage", "bonds.onset_separation", "bonds.final_separation"}))
+      is_one_of(name, {"bonds.damage", "bonds.onset_separation", "bonds.final_separation"}))
     return true;
   if (may_convert) return false;
-  if (!bonds.may_yield && is_one_of({"bonds.plastic_n", "bonds.rest_length"})) return true;
-  return is_one_of({"bonds.material", "bonds.kn", "bonds.ks", "bonds.area", "bonds.used",
-                    "nodes.particle", "nodes.particle_list", "nodes.radius",
-                    "elements.cell_strain_offset", "elements.active", "elements.alive",
-                    "converted"});
+  if (!bonds.may_yield && is_one_of(name, {"bonds.plastic_n", "bonds.rest_length"})) return true;
+  return is_one_of(
+      name, {"bonds.material", "bonds.kn", "bonds.ks", "bonds.area", "bonds.used", "nodes.particle",
+             "nodes.particle_list", "nodes.radius", "elements.cell_strain_offset",
+             "elements.active", "elements.alive", "converted"});
 }
 
 inline StateRows state_rows(std::string_view name) {
-  auto is_one_of = [name](std::initializer_list<std::string_view> names) {
-    for (std::string_view n : names)
-      if (n == name) return true;
-    return false;
-  };
-  if (is_one_of({"converted", "bonds.used", "nodes.particle_list", "elements.active"}))
+  if (is_one_of(name, {"converted", "bonds.used", "nodes.particle_list", "elements.active"}))
     return StateRows::list_prefix;
   if (name.substr(0, 6) == "bonds.") return StateRows::used_bonds;
   // Not elements.cell_cracked: a broken bond marks the cells on both its sides, converted or not.
-  if (is_one_of({"elements.cell_strain_offset", "elements.cell_stress", "elements.cell_state",
-                 "elements.cell_volumetric_strain", "elements.cell_hoop"}))
+  if (is_one_of(name, {"elements.cell_strain_offset", "elements.cell_stress", "elements.cell_state",
+                       "elements.cell_volumetric_strain", "elements.cell_hoop"}))
     return StateRows::converted_cells;
-  if (is_one_of({"nodes.particle", "nodes.rotation", "nodes.spin", "nodes.moment"}))
+  if (is_one_of(name, {"nodes.particle", "nodes.rotation", "nodes.spin", "nodes.moment"}))
     return StateRows::particles;
   if (name == "contact_force_previous") return StateRows::contact_discs;
-  if (is_one_of({"elements.stress", "elements.epeq", "elements.qp_volume",
-                 "elements.bulk_viscosity", "elements.law_state", "elements.hourglass_disp",
-                 "elements.hourglass_force", "elements.recoverable_work", "elements.alive"}))
+  if (is_one_of(name, {"elements.stress", "elements.epeq", "elements.qp_volume",
+                       "elements.bulk_viscosity", "elements.law_state", "elements.hourglass_disp",
+                       "elements.hourglass_force", "elements.recoverable_work", "elements.alive"}))
     return StateRows::active_elements;
   return StateRows::all;  // positions, velocities, forces, supports, radii, cracked flags
 }

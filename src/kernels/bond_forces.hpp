@@ -120,10 +120,8 @@ struct CellStress {
       x[a] = nodes.x(n, 0);
       y[a] = nodes.x(n, 1);
     }
-    // No offsets where nothing converts (build_lattice): 0, and the strain is exactly the same.
-    double offset[3] = {0.0, 0.0, 0.0};
-    if (elements.cell_strain_offset.extent(0) > 0)
-      for (int k = 0; k < 3; ++k) offset[k] = elements.cell_strain_offset(e, k);
+    const double offset[3] = {elements.strain_offset(e, 0), elements.strain_offset(e, 1),
+                              elements.strain_offset(e, 2)};
     double stress[3];
     const double scale = elements.cell_inverse_strength_scale.extent(0) > 0
                              ? elements.cell_inverse_strength_scale(e)

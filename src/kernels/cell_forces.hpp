@@ -62,11 +62,9 @@ struct CellBulkForces {
     A0 = centre_gradients(x0, y0, bx, by);
     displacement_gradient(ux, uy, bx, by, h);
     // tr E = tr(H) + |H|^2 / 2 (green_lagrange's E_xx + E_yy), less the offset's trace.
-    const bool offset = elements.cell_strain_offset.extent(0) > 0;  // else nothing converts: 0
     const double trace = h[0] + h[3] +
                          0.5 * (h[0] * h[0] + h[1] * h[1] + h[2] * h[2] + h[3] * h[3]) -
-                         (offset ? elements.cell_strain_offset(e, 0) : 0.0) -
-                         (offset ? elements.cell_strain_offset(e, 1) : 0.0);
+                         elements.strain_offset(e, 0) - elements.strain_offset(e, 1);
     depth = 1.0;
     w = 0.0;
     double r0 = 0.0, r = 0.0;

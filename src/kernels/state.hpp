@@ -289,7 +289,9 @@ struct Elements {
   View<double* [3]> cell_stress;  // Pa: xx, yy, xy (reference frame)
   View<int*> cell_state;          // CellState of the last cell stress (compute_cell_stress)
   View<int*> cell_cracked;        // 1 once a bond of the cell broke or started to soften, for good
-  View<double* [3]> cell_strain_offset;  // strain beyond the elastic part at conversion
+  // Strain beyond the elastic part at conversion; empty where nothing converts (build_lattice),
+  // so read through strain_offset.
+  View<double* [3]> cell_strain_offset;
   // 1 / the smallest strength factor of each cell's bonds (Bonds::strength_scale), by which the
   // cell stress's bound scales the stress (a product, not a division, every step); empty view
   // with the bonds'.
@@ -337,6 +339,12 @@ struct Elements {
   // two chunks of a colour share a node (kernels/scatter.hpp; update_scatter_plan after every
   // change of `active`). The fixed chunks make the FE forces independent of the thread count.
   ScatterPlan scatter;
+
+  // Component k of cell e's strain offset: 0 where nothing converts (an empty view), so the
+  // strain less it is the same to the bit.
+  KOKKOS_INLINE_FUNCTION double strain_offset(const int e, const int k) const {
+    return cell_strain_offset.extent(0) > 0 ? cell_strain_offset(e, k) : 0.0;
+  }
 };
 
 // Piecewise-linear load tables, one per load, flattened: entries [offset[k], offset[k+1]).
