@@ -194,6 +194,9 @@ struct CheckpointIO {
     if (used < 0 || used > static_cast<int>(s.model_.bonds.used.extent(0)) || particles < 0 ||
         particles > static_cast<int>(s.model_.nodes.particle_list.extent(0)))
       throw std::runtime_error("bond or particle list counts out of range");
+    // The slots of the converted cells: their topology is written at conversion.
+    fill_slot_topology(s.model_.converted, s.model_.converted_count, s.model_.topology,
+                       s.model_.nodes, s.model_.bonds);
     if (s.model_.contacts) {
       ContactSystem& contacts = *s.model_.contacts;
       contacts.invalidate();  // the list comes from the checkpoint: nothing to insert into

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "host/model.hpp"  // sparse_zero_view
+
 namespace fracta {
 
 namespace {
@@ -130,7 +132,8 @@ bool ContactSystem::insert_new_discs(const Nodes& nodes, int old_count) {
   const auto position = Kokkos::subview(w.position, all, Kokkos::ALL);
   const auto old_index = Kokkos::subview(w.old_index, all);
   if (w.node_slot.extent(0) < static_cast<size_t>(nodes.count))
-    w.node_slot = View<int*>("fracta::contact_insert_node_slot", nodes.count);  // zeroed
+    // Zero, and written at the discs' nodes alone: its pages are used where the discs are.
+    w.node_slot = sparse_zero_view<View<int*>>("fracta::contact_insert_node_slot", nodes.count);
   const int found = map_inserted_discs(nodes, discs_, old_discs, old_x_build, w.node_slot,
                                        old_index, w.new_of_old, position);
   if (found != old_count) return false;
@@ -248,11 +251,11 @@ ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, const Topolo
   if (!built_) throw std::logic_error("ContactSystem::compute_forces before update");
   Kokkos::Profiling::pushRegion("fracta::contact_forces");
   // What joins each pair, once per list: the force kernel then reads only states.
-  if (!joins_built_ || joins_topology_ != topo.node_bond.data()) {
+  if (!joins_built_ || joins_topology_ != topo.node_element.data()) {
     reserve(pair_joins_, pair_count_, "fracta::contact_pair_joins");
     pair_topology(topo, pair_i_, pair_j_, pair_count_, pair_joins_);
     joins_built_ = true;
-    joins_topology_ = topo.node_bond.data();
+    joins_topology_ = topo.node_element.data();
     joins_pending_ = gather_built_ = false;
   } else if (joins_pending_) {  // an insertion: the inserted pairs alone
     pending_pair_topology(topo, pair_i_, pair_j_, pair_count_, pair_joins_);

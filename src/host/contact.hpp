@@ -157,7 +157,7 @@ class ContactSystem {
   bool joins_built_ = false;
   bool joins_pending_ = false;  // inserted pairs marked kJoinsPending in pair_joins_
   bool gather_built_ = false;
-  const void* joins_topology_ = nullptr;  // the Topology (its node -> bond list) they came from
+  const void* joins_topology_ = nullptr;  // the Topology (its node -> element list) they came from
   long pair_count_ = 0;
   long rebuilds_ = 0;
   bool insertion_ = true;

@@ -39,27 +39,30 @@ bool body_has_lattice(const Body& b) {
 // itemised (the run's host buffers: output frames, history, mirrors; transient copies while the
 // model is built). Calibrated on the peak RSS of `fracta run` (g++ 12 Release, OpenMP, 2
 // threads; a 30 x 60 mm plate, 45 000 and 180 000 cells, a few steps, two output frames):
-//   fe: measured 46.7 / 122.3 MB (22 MB + 560 B per cell);
-//   de: measured 83.0 / 263.2 MB (23 MB + 1335 B per cell);
-//   adaptive (before it converts): 61.2 / 177.3 MB (22 MB + 860 B per cell).
-// Repeated runs of one case peak up to 6 % apart (fe 122-128 MB, adaptive 173-183 MB): the
+//   fe: measured 43.3 / 109.6 MB (21 MB + 491 B per cell);
+//   de: measured 78.3 / 243.8 MB (23 MB + 1226 B per cell);
+//   adaptive (before it converts): 51.1 / 135.1 MB (23 MB + 622 B per cell).
+// Repeated runs of one case peak up to 6 % apart (fe 122-128 MB, adaptive 173-183 MB when it
+// held its slots' topology from the start): the
 // estimate is set to about 1.1 times the middle of that spread, 1.05-1.15 times each run.
 // tests/host/test_memory.cpp re-measures and requires 1 <= estimate / measured <= 1.2.
 constexpr double kBaseBytes = 22e6;  // Kokkos, HDF5, the executable: 22 MB measured
-// Node: x0, x, v, f, f_ext (10 doubles), mass, fixed, body on the device; position and body in
-// the host mesh; the node-id grid and output/history buffers of a run.
-constexpr double kNodeBytes = 80 + 8 + 8 + 20 + 4 + 24;
+// Node: x0, x, v, f, f_ext (10 doubles), mass, fixed on the device; the node-id grid and
+// output/history buffers of a run. (The host mesh's copy is freed before the run's peak.)
+constexpr double kNodeBytes = 80 + 8 + 4 + 4 + 24;
 // Element: 4 nodes, material, body, active, alive; the last hourglass force and four work
-// tallies; host mesh copy (nodes, body, material, method) and output buffers.
-constexpr double kElementBytes = 32 + 48 + 28 + 24;
+// tallies; output buffers.
+constexpr double kElementBytes = 32 + 48 + 24;
 // The stiffness hourglass form's generalized displacement and its snapshot row (none for the
 // viscous form).
 constexpr double kStiffnessHourglassBytes = 2 * 16;
 // Quadrature point: stress (4), epeq, volume, bulk viscosity.
 constexpr double kQuadraturePointBytes = 56;
-// Not itemised, per cell of any body (measured 560 B per cell in all, 334 B itemised above;
-// about 1.1 times the rest).
-constexpr double kRunBytesPerCell = 310;
+// Not itemised, per cell of any body: the failure snapshot's rows (positions, velocities,
+// forces; the external forces and supports only where loads, bars or supports act:
+// state_view_constant) and the run's buffers (measured 491 B per cell in all, 282 B itemised
+// above; the rest, with the margin that keeps the estimate about 1.1 times the measured peak).
+constexpr double kRunBytesPerCell = 265;
 // Nodes of any model with a lattice (a convertible body, or several bodies in contact): the
 // particle views (flags, radius, inertia, rotation, spin, moment, contact stiffness), topology
 // offsets, the stable-step cache (stale flag, bound), and the host lists build_lattice fills on
@@ -69,9 +72,10 @@ constexpr double kLatticeNodeBytes = 56 + 8 + 12 + 2 * 56;
 // offset, conversion workspace.
 constexpr double kLatticeElementBytes = 88;
 // Cells of a convertible body: about 4 bond slots each (2 edges, 2 diagonals) of 108 B on the
-// device, the topology's node -> bond and node -> element lists, build_lattice's host slot
-// arrays and edge map, and the part not itemised (measured 1200 B per cell beyond the FE part,
-// 1030 B itemised).
+// device, the topology's node -> element list, build_lattice's host slot arrays and edge map,
+// and the part not itemised (measured 1200 B per cell beyond the FE part, 1030 B itemised, when
+// a node -> slot list and each slot's kind were held too: 40 B per cell that the de plate's
+// measured peak no longer holds, left in as margin).
 // Cohesive state (damage, onset and final separation) adds 24 B per slot.
 constexpr double kConvertibleCellBytes = 4 * (108 + 24) + 32 + 16 + 232 + 350;
 // The part of the terms above that a cell of an adaptive body takes only once it has converted
@@ -96,9 +100,10 @@ constexpr double kConvertedCellBytes = 1190;
 constexpr double kFeStateCellBytes = 40;
 constexpr double kAllDeCellSavingBytes = 848 - 96;  // besides the FE state (40 + 56 B)
 // The part of the terms above that a cell of an adaptive body takes only once it has converted,
-// beyond its start: the adaptive plate's peak before it converts (860 B per cell) against the
-// other terms (1110 B per cell), the estimate kept about 1.1 times the measured peak.
-constexpr double kAdaptiveStartSavingBytes = 146;
+// beyond its start: its slots' topology (ends, cells, reference length: 4 x 24 B, written at
+// conversion: fill_slot_topology) and what the adaptive plate's peak before it converts (724 B
+// per cell) leaves of the other terms, the estimate kept about 1.1 times the measured peak.
+constexpr double kAdaptiveStartSavingBytes = 316;
 // Weibull strengths: a factor per slot and the smallest per cell (heterogeneity.hpp).
 constexpr double kWeibullCellBytes = 4 * 8 + 8;
 // Law state of every quadrature point when a material keeps one (hjc, johnson_cook: 3 doubles),

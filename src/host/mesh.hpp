@@ -16,6 +16,8 @@ struct BodyRange {
   double cell_x = 0, cell_y = 0;           // actual cell sizes (m)
 };
 
+// build_model keeps the body ranges and boundary edges of its mesh and frees the rest once the
+// device views hold it (Model::mesh).
 struct HostMesh {
   std::vector<Vec2> position;  // reference node positions (m)
   std::vector<int> node_body;

@@ -418,8 +418,16 @@ bool needs_particles(const Case& c) {
   return false;
 }
 
+// Whether a material asks for random bond strengths (draw_heterogeneity).
+bool draws_heterogeneity(const Case& c) {
+  for (const Material& mat : c.materials)
+    if (mat.weibull_modulus > 0.0 || mat.strength_spread > 0.0) return true;
+  return false;
+}
+
 // Strength factors of the bond slots (kernels/heterogeneity.hpp: Weibull or uniform), when a
-// material asks for them, and a note of their range for check and run.
+// material asks for them, and a note of their range for check and run. Reads every slot's
+// topology (fill_all_slot_topology).
 void draw_heterogeneity(Model& model) {
   const Case& c = model.scene;
   std::vector<StrengthDistribution> laws(c.materials.size());
@@ -553,15 +561,10 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
 
   Bonds& bonds = model.bonds;
   bonds.count = nb;
-  bonds.nodes = to_device_rows("bond_nodes", slot_nodes);
-  bonds.kind = to_device_1d<int>("bond_kind", slot_kind);
-  std::vector<double> length0(nb);
-  for (int b = 0; b < nb; ++b) {
-    const auto& p = m.position[slot_nodes[b][0]];
-    const auto& q = m.position[slot_nodes[b][1]];
-    length0[b] = std::hypot(q[0] - p[0], q[1] - p[1]);
-  }
-  bonds.length0 = to_device_1d<double>("bond_length0", length0);
+  // Written where a cell converts (fill_slot_topology): untouched pages cost no memory.
+  bonds.nodes = sparse_zero_view<View<int* [2]>>("fracta::bond_nodes", nb);
+  bonds.length0 = sparse_zero_view<View<double*>>("fracta::bond_length0", nb);
+  bonds.cells = sparse_zero_view<View<int* [2]>>("fracta::bond_cells", nb);
   bonds.material = sparse_zero_view<View<int*>>("fracta::bond_material", nb);
   bonds.state = sparse_zero_view<View<int*>>("fracta::bond_state", nb);
   bonds.kn = sparse_zero_view<View<double*>>("fracta::bond_kn", nb);
@@ -570,7 +573,6 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   bonds.fn = sparse_zero_view<View<double*>>("fracta::bond_fn", nb);
   bonds.fs = sparse_zero_view<View<double*>>("fracta::bond_fs", nb);
   bonds.plastic_n = sparse_zero_view<View<double*>>("fracta::bond_plastic_n", nb);
-  std::vector<double>().swap(length0);  // host arrays go as soon as their views exist
   bonds.plastic_s = sparse_zero_view<View<double*>>("fracta::bond_plastic_s", nb);
   bonds.hardening = sparse_zero_view<View<double*>>("fracta::bond_hardening", nb);
   bonds.plastic_work = sparse_zero_view<View<double*>>("fracta::bond_plastic_work", nb);
@@ -584,7 +586,14 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
       const int b = element_slots[e][a];
       if (b >= 0) bond_cells[b][bond_cells[b][0] < 0 ? 0 : 1] = e;
     }
-  bonds.cells = to_device_rows("bond_cells", bond_cells);
+  // The slots the time-0 conversion activates (every slot of a de cell), increasing: the used
+  // list's start (Bonds::used), found here rather than by a sweep of every slot's state.
+  std::vector<int> initial_used;
+  for (const int e : converted)
+    for (const int b : element_slots[e])
+      if (b >= 0) initial_used.push_back(b);
+  std::sort(initial_used.begin(), initial_used.end());
+  initial_used.erase(std::unique(initial_used.begin(), initial_used.end()), initial_used.end());
   std::vector<std::array<int, 6>>().swap(element_slots);
   // Where the next slot continues a run, and which slots are diagonals (Bonds::run_next;
   // BondForces::batch relies on each condition: the ends and cells it does not read are one on
@@ -617,11 +626,13 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   model.elements.cell_stress = sparse_zero_view<View<double* [3]>>("fracta::cell_stress", ne);
   model.elements.cell_state = sparse_zero_view<View<int*>>("fracta::cell_state", ne);
   model.elements.cell_cracked = sparse_zero_view<View<int*>>("fracta::cell_cracked", ne);
-  // Capacity for every cell: adaptive conversion appends to the list.
-  std::vector<int> converted_all(converted);
-  converted_all.resize(ne, -1);
-  model.converted = to_device_1d<int>("converted_cells", converted_all);
+  // Capacity for every cell: adaptive conversion appends to the list (its pages are used as it
+  // grows), writing a batch's cells straight into the free part (Simulation::convert_elements).
+  model.converted = sparse_zero_view<View<int*>>("fracta::converted_cells", ne);
   model.converted_count = static_cast<int>(converted.size());
+  if (!converted.empty())
+    Kokkos::deep_copy(Kokkos::subview(model.converted, std::make_pair(0, model.converted_count)),
+                      to_device_1d<int>("converted_elements", converted));
   std::vector<int> adaptive(ne, 0);
   for (int e = 0; e < ne; ++e) adaptive[e] = m.element_method[e] == BodyMethod::adaptive;
   model.element_adaptive = to_device_1d<int>("element_adaptive", adaptive);
@@ -630,9 +641,7 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   model.elements.cell_strain_offset = sparse_zero_view<View<double* [3]>>(
       "fracta::cell_strain_offset", model.has_adaptive ? ne : 0);
   // The conversion's work space: none where nothing converts.
-  const int workspace = model.has_adaptive ? ne : 0;
-  model.new_cells = View<int*>("fracta::new_cells", workspace);
-  model.active_scratch = View<int*>("fracta::active_scratch", workspace);
+  model.active_scratch = View<int*>("fracta::active_scratch", model.has_adaptive ? ne : 0);
 
   // Per-material lattice stiffness and bond law.
   std::vector<LatticeStiffness> stiffness;
@@ -733,7 +742,6 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   if (cell_term && axisymmetric)
     model.elements.cell_hoop =
         sparse_zero_view<View<double* [4]>>("fracta::cell_hoop", model.elements.count);
-  draw_heterogeneity(model);
 
   // Particle views of the nodes: radius half the cell, inertia m r^2 / 2, lambda k1.
   Nodes& nodes = model.nodes;
@@ -806,13 +814,11 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
     ids = to_device_1d<int>(label, flat);
   };
   csr(
-      nb, 2, [&](int b, int s) { return slot_nodes[b][s]; }, "node_bond", topo.node_bond_offset,
-      topo.node_bond);
-  csr(
       ne, 4, [&](int e, int a) { return m.element_nodes[e][a]; }, "node_element",
       topo.node_element_offset, topo.node_element);
   topo.element_alive = model.elements.alive;
-  topo.bond_nodes = bonds.nodes;
+  topo.element_nodes = model.elements.nodes;
+  topo.element_slots = model.element_bonds;
   topo.bond_state = bonds.state;
 
   // Nodes that may take part in contact (nodes.contact_disc, for the stable step): every node
@@ -833,15 +839,35 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   model.contacts = std::make_shared<ContactSystem>(std::vector<int>{}, c.contact, 0.25 * h_min);
   model.contacts->set_rigid_surface(model.rigid_surface);
 
+  // Random strengths read every slot's ends and cells.
+  if (draws_heterogeneity(c)) fill_all_slot_topology(topo, nodes, bonds);
+  draw_heterogeneity(model);
+
   // de parts: converted at time 0.
   const View<int*> conv = to_device_1d<int>("converted_elements", converted);
+  fill_slot_topology(conv, static_cast<int>(converted.size()), topo, nodes, bonds);
   activate_element_bonds(conv, static_cast<int>(converted.size()), model.element_bonds,
                          model.lattice_stiffness, model.elements, nodes, bonds);
 
   // The used bond slots and the particles (state.hpp), kept up to date by the conversion.
   bonds.used = sparse_zero_view<View<int*>>("fracta::bond_used", nb);
-  bonds.used_count = build_used_bonds(bonds);
-  update_scatter_plan(bonds);
+  bonds.used_count = static_cast<int>(initial_used.size());
+  if (bonds.used_count > 0)
+    Kokkos::deep_copy(Kokkos::subview(bonds.used, std::make_pair(0, bonds.used_count)),
+                      to_device_1d<int>("initial_used_bonds", initial_used));
+  std::vector<int>().swap(initial_used);
+  {
+    // The plan's chunks span the nodes of every slot, converted or not: cut from the set-up's
+    // ends, which the slots' own view holds only where cells converted.
+    const View<int* [2]> ends = to_device_rows("bond_plan_ends", slot_nodes);
+    build_scatter_plan(
+        bonds.scatter, nb,
+        KOKKOS_LAMBDA(const int b, int& lo, int& hi) {
+          lo = min_(ends(b, 0), ends(b, 1));
+          hi = max_(ends(b, 0), ends(b, 1));
+        },
+        bonds_listed(bonds) ? bonds.used : View<int*>(), bond_list_count(bonds), kBondChunkMax);
+  }
   nodes.particle_list = sparse_zero_view<View<int*>>("fracta::node_particle_list", nn);
   nodes.bound_stale = sparse_zero_view<View<int*>>("fracta::node_bound_stale", nn);
   nodes.particle_count = build_particle_list(nodes);
@@ -940,7 +966,6 @@ Model build_model(const Case& c) {
   nodes.f_ext = View<double* [2]>("fracta::node_f_ext", nn);
   nodes.mass = View<double*>("fracta::node_mass", nn);
   nodes.fixed = View<int*>("fracta::node_fixed", nn);
-  nodes.body = to_device_1d<int>("node_body", m.node_body);
   {
     auto x = Kokkos::create_mirror_view(nodes.x);
     auto v = Kokkos::create_mirror_view(nodes.v);
@@ -1149,6 +1174,17 @@ Model build_model(const Case& c) {
     model.nodes.v_filtered = View<double* [2]>("fracta::node_v_filtered", model.nodes.count);
     Kokkos::deep_copy(model.nodes.v_filtered, model.nodes.v);
   }
+  // A run reads the device views alone: the host mesh's arrays per node and per element (the
+  // reference positions, the connectivity, the bodies, materials and methods: about 48 B per
+  // node, as much again as a step's own node state) go once they are. Its body ranges and
+  // boundary edges stay.
+  HostMesh& mesh = model.mesh;
+  std::vector<Vec2>().swap(mesh.position);
+  std::vector<int>().swap(mesh.node_body);
+  std::vector<std::array<int, 4>>().swap(mesh.element_nodes);
+  std::vector<int>().swap(mesh.element_body);
+  std::vector<int>().swap(mesh.element_material);
+  std::vector<BodyMethod>().swap(mesh.element_method);
   return model;
 }
 

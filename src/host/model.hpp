@@ -1,5 +1,6 @@
 // The model: device state built from a Case (mesh, masses, materials, loads, constraints).
 #pragma once
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -8,6 +9,7 @@
 #include "host/contact.hpp"
 #include "host/memory.hpp"
 #include "host/mesh.hpp"
+#include "host/state_views.hpp"
 #include "kernels/bond_forces.hpp"
 #include "kernels/boundaries.hpp"
 #include "kernels/conversion.hpp"
@@ -62,6 +64,8 @@ struct BoundarySet {
 
 struct Model {
   Case scene;
+  // The body ranges and boundary edges of the mesh; its per-node and per-element arrays are
+  // freed once the views below hold them (build_model): read those.
   HostMesh mesh;
   Nodes nodes;
   Elements elements;
@@ -84,7 +88,7 @@ struct Model {
   int converted_count = 0;
   View<int*> element_adaptive;  // 1 for elements of adaptive bodies and regions
   bool has_adaptive = false;
-  View<int*> new_cells, active_scratch;       // conversion workspace (capacity: all elements)
+  View<int*> active_scratch;                  // conversion workspace (capacity: all elements)
   ListWorkspace lists;                        // conversion workspace for the lattice lists
   View<LatticeStiffness*> lattice_stiffness;  // per material
   View<BondLaw*> bond_laws;                   // per material
@@ -110,6 +114,20 @@ struct Model {
 // Builds the model; throws InputError for scenes that cannot be modelled (a selector that
 // selects nothing, a convertible body outside the lattice's Poisson-ratio range, ...).
 Model build_model(const Case& c);
+
+// What the scene can change (state_views.hpp: the views the failure snapshot need not copy).
+inline SceneChanges scene_changes(const Model& m) {
+  SceneChanges s;
+  s.may_yield = m.bonds.may_yield;
+  s.may_soften = m.bonds.may_soften;
+  s.may_convert = m.has_adaptive;
+  s.supports_change = m.supports.any();
+  s.external_forces =
+      m.pressure_edges.count > 0 || m.nodal_forces.count > 0 ||
+      std::any_of(m.boundary_sets.begin(), m.boundary_sets.end(),
+                  [](const BoundarySet& b) { return b.type == Boundary::Type::bar; });
+  return s;
+}
 
 MaterialLaw material_law(const Material& m, Formulation f);
 

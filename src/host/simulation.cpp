@@ -480,20 +480,23 @@ bool Simulation::convert_cells() {
   Model& m = model_;
   Kokkos::deep_copy(conversion_pending_, 0);
   // Few flagged: check just those (compact_candidates); many: the sweep (compact_converted).
-  // Both give the same lists in the same order.
+  // Both give the same lists in the same order. The new cells go straight into the free part of
+  // the converted list, which the count then takes in.
+  const View<int*> new_cells = Kokkos::subview(
+      m.converted, std::make_pair(m.converted_count, static_cast<int>(m.converted.extent(0))));
   int n = 0;
   const bool on_tension = m.scene.sim.conversion_on_tension;
   if (pending > 0 && pending <= static_cast<int>(conversion_candidates_.extent(0)) &&
       m.lists.keep.extent(0) >= static_cast<size_t>(pending)) {
     n = compact_candidates(m.elements, m.element_adaptive, m.materials, on_tension,
-                           conversion_candidates_, pending, m.lists.keep, m.lists.sorted,
-                           m.new_cells, m.active_scratch, m.nodes.x);
+                           conversion_candidates_, pending, m.lists.keep, m.lists.sorted, new_cells,
+                           m.active_scratch, m.nodes.x);
   } else {
     if (conversion_flag_.extent(0) < static_cast<size_t>(m.elements.count)) {
       conversion_flag_ = View<int*>("fracta::conversion_flag", m.elements.count);
       conversion_position_ = View<int*>("fracta::conversion_position", m.elements.count);
     }
-    n = compact_converted(m.elements, m.element_adaptive, m.materials, on_tension, m.new_cells,
+    n = compact_converted(m.elements, m.element_adaptive, m.materials, on_tension, new_cells,
                           m.active_scratch, conversion_flag_, conversion_position_, m.nodes.x);
   }
   ledger_.counts.conversions_this_step = n;
@@ -506,33 +509,28 @@ bool Simulation::convert_cells() {
   const double cells_before =
       cell_bulk_energy(m.converted, m.converted_count, m.nodes, m.elements, m.lattice_stiffness);
   // The slots and nodes this conversion activates go into the lists (state.hpp): collected
-  // before the activation, inserted after it; a large batch rebuilds the lists instead.
+  // before the activation, inserted after it.
   const bool lists = m.bonds.used.extent(0) > 0 && m.nodes.particle_list.extent(0) > 0;
-  const bool insert = lists && 6 * n <= ListWorkspace::kCapacity;
-  if (insert) {
-    collect_new_bonds(m.new_cells, n, m.element_bonds, m.bonds, m.lists.bond_candidates);
-    collect_new_particles(m.new_cells, n, m.elements, m.nodes, m.lists.particle_candidates);
+  if (lists) {
+    m.lists.reserve(6 * n);
+    collect_new_bonds(new_cells, n, m.element_bonds, m.bonds, m.lists.bond_candidates);
+    collect_new_particles(new_cells, n, m.elements, m.nodes, m.lists.particle_candidates);
   }
+  fill_slot_topology(new_cells, n, m.topology, m.nodes, m.bonds);
   const double element_energy =
-      prestress_converted_bonds(m.new_cells, n, m.element_bonds, m.lattice_stiffness, m.elements,
+      prestress_converted_bonds(new_cells, n, m.element_bonds, m.lattice_stiffness, m.elements,
                                 m.nodes, m.bonds, m.topology, kick_pending_ ? last_dt_ : 0.0);
-  activate_element_bonds(m.new_cells, n, m.element_bonds, m.lattice_stiffness, m.elements, m.nodes,
+  activate_element_bonds(new_cells, n, m.element_bonds, m.lattice_stiffness, m.elements, m.nodes,
                          m.bonds);
-  finish_converted_bonds(m.new_cells, n, m.element_bonds, m.nodes, m.bonds);
-  mark_converted_rows(m.new_cells, n, m.elements, m.nodes, m.bonds, m.topology);
-  if (insert) {
+  finish_converted_bonds(new_cells, n, m.element_bonds, m.nodes, m.bonds);
+  mark_converted_rows(new_cells, n, m.elements, m.nodes, m.bonds, m.topology);
+  if (lists) {
     m.bonds.used_count =
         insert_sorted(m.bonds.used, m.bonds.used_count, m.lists.bond_candidates, 6 * n, m.lists);
     m.nodes.particle_count = insert_sorted(m.nodes.particle_list, m.nodes.particle_count,
                                            m.lists.particle_candidates, 4 * n, m.lists);
-  } else if (lists) {
-    m.bonds.used_count = build_used_bonds(m.bonds);
-    m.nodes.particle_count = build_particle_list(m.nodes);
   }
   locate_scatter_chunks();
-  Kokkos::deep_copy(
-      Kokkos::subview(m.converted, std::make_pair(m.converted_count, m.converted_count + n)),
-      Kokkos::subview(m.new_cells, std::make_pair(0, n)));
   m.converted_count += n;
   ledger_.counts.conversions += n;
   // Energy the conversion takes out (element strain energy) less what it puts in (bond energy,

@@ -46,6 +46,9 @@ Rows rows_to_keep(std::string_view name, const V& view, const StateViews& lists,
     case StateRows::contact_discs:
       // (No contact: the view is empty, above.)
       return {{lists.contact_discs, 1}, lists.contact_disc_count};
+    case StateRows::until_converted:
+      if (extent == element_count && lists.converted.extent(0) > 0) return {};  // restore
+      break;
     case StateRows::all:
       break;
   }
@@ -95,7 +98,7 @@ void StateSnapshot::save(const Model& m, StateViews live) {
   for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
     if (saved_.size() <= index) saved_.emplace_back();
     Saved& s = saved_[index++];
-    if (state_view_constant(name, m.bonds, m.has_adaptive)) {
+    if (state_view_constant(name, scene_changes(m))) {
       s = Saved();  // nothing to keep: restore leaves it alone
       return;
     }
@@ -115,9 +118,18 @@ void StateSnapshot::restore(Model& m, StateViews live) const {
   //    written again below.
   for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
     const StateRows kind = state_rows(name);
+    if (kind == StateRows::until_converted && view.extent(0) > 0 &&
+        !state_view_constant(name, scene_changes(m))) {
+      // The cells converted since the save: 1 again (the others are as saved).
+      const int from = lists_.converted, to = now.converted;
+      if (to > from && live.converted.extent(0) > 0)
+        reset_rows(view, {Kokkos::subview(live.converted, std::make_pair(from, to)), 1}, to - from,
+                   1);
+      return;
+    }
     if ((kind != StateRows::converted_cells && kind != StateRows::used_bonds &&
          kind != StateRows::particles && kind != StateRows::contact_discs) ||
-        state_view_constant(name, m.bonds, m.has_adaptive))
+        state_view_constant(name, scene_changes(m)))
       return;
     const Rows rows = rows_to_keep(name, view, live, now, elements);
     if (rows.map.list.extent(0) == 0) return;  // every row is saved
@@ -132,7 +144,7 @@ void StateSnapshot::restore(Model& m, StateViews live) const {
     for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
       const Saved& s = saved_[index++];
       if ((state_rows(name) == StateRows::list_prefix) != lists ||
-          state_view_constant(name, m.bonds, m.has_adaptive))
+          state_view_constant(name, scene_changes(m)))
         return;
       const Rows rows = rows_to_keep(name, view, saved_lists, lists_, elements);
       scatter_rows(buffer_of(view, s), rows.map, s.rows, view);

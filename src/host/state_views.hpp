@@ -97,6 +97,8 @@ enum class StateRows {
   used_bonds,       // the used slots' rows; a slot's are its initial ones until it is activated
   particles,        // the particles' rows; a node's are 0 until it becomes a disc
   contact_discs,    // the contact discs' rows (StateViews::contact_discs); 0 until it is one
+  until_converted,  // 1 until the element converts, 0 after (elements.alive: rigid elements are 1
+                    // for good): the converted list holds it, so nothing is kept
 };
 
 // Whether `name` is one of `names` (the state views' names below).
@@ -106,28 +108,43 @@ inline bool is_one_of(std::string_view name, std::initializer_list<std::string_v
   return false;
 }
 
+// What a scene can change beyond what every step changes (scene_changes, model.hpp).
+struct SceneChanges {
+  bool may_yield = true;        // a bond law yields (Bonds::may_yield)
+  bool may_soften = true;       // a bond law softens (Bonds::may_soften)
+  bool may_convert = true;      // a cell can convert (Model::has_adaptive)
+  bool supports_change = true;  // a support can hold and let go (SupportDofs::any)
+  bool external_forces = true;  // a load or a bar acts (else nodes.f_ext is 0 for good)
+};
+
 // Whether the view named `name` keeps its value for the whole run, so that no snapshot need
 // copy it:
-// - by the scene's bond laws (Bonds::may_yield, may_soften): without them the plastic and
-//   cohesive state stays 0. plastic_n and rest_length are not among them: a conversion sets them
-//   for every law;
-// - by whether anything can convert (`may_convert`, Model::has_adaptive): without conversion,
-//   the views that only a conversion writes (conversion.hpp, Simulation::convert_elements: slot
-//   activation and stiffnesses, the disc and cell lists, radii, the cells' strain offsets) keep
-//   their set-up values, as do plastic_n and rest_length without a yielding law;
+// - by the scene's bond laws (may_yield, may_soften): without them the plastic and cohesive
+//   state stays 0. plastic_n and rest_length are not among them: a conversion sets them for
+//   every law;
+// - by whether anything can convert (may_convert): without conversion, the views that only a
+//   conversion writes (conversion.hpp, Simulation::convert_elements: slot activation and
+//   stiffnesses, the disc and cell lists, radii, the cells' strain offsets) keep their set-up
+//   values, as do plastic_n and rest_length without a yielding law;
+// - by whether a support can hold and let go (supports_change): only those write nodes.fixed
+//   after the set-up;
+// - by whether a load or a bar acts (external_forces): only those write nodes.f_ext (loads.hpp,
+//   push_face), which the kicks clear where it is not 0;
 // - nodes.contact_disc is set up once and never written.
 // A step that wrote one of them anyway would show in the restore tests
-// (Simulation.RestoreGivesTheSavedStateBitForBit and its lattice-only twin).
-inline bool state_view_constant(std::string_view name, const Bonds& bonds, bool may_convert) {
+// (Simulation.RestoreGivesTheSavedStateBitForBit and its lattice-only and support twins).
+inline bool state_view_constant(std::string_view name, const SceneChanges& scene) {
   if (name == "nodes.contact_disc") return true;
-  if (!bonds.may_yield &&
+  if (name == "nodes.fixed") return !scene.supports_change;
+  if (name == "nodes.f_ext") return !scene.external_forces;
+  if (!scene.may_yield &&
       is_one_of(name, {"bonds.plastic_s", "bonds.hardening", "bonds.plastic_work"}))
     return true;
-  if (!bonds.may_soften &&
+  if (!scene.may_soften &&
       is_one_of(name, {"bonds.damage", "bonds.onset_separation", "bonds.final_separation"}))
     return true;
-  if (may_convert) return false;
-  if (!bonds.may_yield && is_one_of(name, {"bonds.plastic_n", "bonds.rest_length"})) return true;
+  if (scene.may_convert) return false;
+  if (!scene.may_yield && is_one_of(name, {"bonds.plastic_n", "bonds.rest_length"})) return true;
   return is_one_of(
       name, {"bonds.material", "bonds.kn", "bonds.ks", "bonds.area", "bonds.used", "nodes.particle",
              "nodes.particle_list", "nodes.radius", "elements.cell_strain_offset",
@@ -145,9 +162,10 @@ inline StateRows state_rows(std::string_view name) {
   if (is_one_of(name, {"nodes.particle", "nodes.rotation", "nodes.spin", "nodes.moment"}))
     return StateRows::particles;
   if (name == "contact_force_previous") return StateRows::contact_discs;
+  if (name == "elements.alive") return StateRows::until_converted;
   if (is_one_of(name, {"elements.stress", "elements.epeq", "elements.qp_volume",
                        "elements.bulk_viscosity", "elements.law_state", "elements.hourglass_disp",
-                       "elements.hourglass_force", "elements.recoverable_work", "elements.alive"}))
+                       "elements.hourglass_force", "elements.recoverable_work"}))
     return StateRows::active_elements;
   return StateRows::all;  // positions, velocities, forces, supports, radii, cracked flags
 }

@@ -51,6 +51,15 @@ KOKKOS_INLINE_FUNCTION double sqrt_(double a) {
   return Kokkos::Experimental::sqrt(a);
 #endif
 }
+// sqrt(a^2 + b^2) without overflow, as std::hypot on the host (whose value the set-up's
+// reference lengths had).
+KOKKOS_INLINE_FUNCTION double hypot_(double a, double b) {
+#if KOKKOS_VERSION >= 40000
+  return Kokkos::hypot(a, b);
+#else
+  return Kokkos::Experimental::hypot(a, b);
+#endif
+}
 KOKKOS_INLINE_FUNCTION double fabs_(double a) {
   return a < 0.0 ? -a : a;
 }

@@ -61,21 +61,17 @@ struct PairTopology {
   KOKKOS_INLINE_FUNCTION void operator()(const int p) const {
     const int i = pair_i(p), j = pair_j(p);
     int slot = -1, slots = 0, el[2] = {-1, -1}, elements = 0;
-    for (int k = topo.node_bond_offset(i); k < topo.node_bond_offset(i + 1); ++k) {
-      const int b = topo.node_bond(k);
-      if (topo.bond_nodes(b, 0) == j || topo.bond_nodes(b, 1) == j) {
+    for (int k = topo.node_element_offset(i); k < topo.node_element_offset(i + 1); ++k) {
+      const int e = topo.node_element(k);
+      const int position = topo.slot_position(e, i, j);
+      if (position < 0) continue;  // j is not a corner of e
+      if (elements < 2) el[elements] = e;
+      ++elements;
+      const int b = topo.element_slots(e, position);
+      if (b >= 0 && b != slot) {  // an edge slot is two cells' slot: count it once
         slot = b;
         ++slots;
       }
-    }
-    for (int k = topo.node_element_offset(i); k < topo.node_element_offset(i + 1); ++k) {
-      const int e = topo.node_element(k);
-      for (int k2 = topo.node_element_offset(j); k2 < topo.node_element_offset(j + 1); ++k2)
-        if (topo.node_element(k2) == e) {
-          if (elements < 2) el[elements] = e;
-          ++elements;
-          break;
-        }
     }
     joins(p, 0) = slots > 1 || elements > 2 ? kJoinedUncached : slot;
     joins(p, 1) = el[0];

@@ -3,6 +3,7 @@
 // edge is shared by 2 elements) and k2 to each of its 2 diagonals. A `de` body is a set of
 // elements converted at time 0.
 #pragma once
+#include <Kokkos_Sort.hpp>
 #include <utility>
 
 #include "kernels/compat.hpp"
@@ -152,6 +153,63 @@ KOKKOS_INLINE_FUNCTION bool cell_has_failed(const Elements& el, const int e) {
   for (int g = 0; g < el.qp_per_element; ++g)
     failed = failed || el.law_state(e * el.qp_per_element + g, kLawDamage) >= 1.0;
   return failed;
+}
+
+// Writes the topology of bond slot `position` of cell e (Bonds::nodes, cells, length0), as
+// build_lattice numbered the slots: an edge's ends in increasing order, a diagonal's from corner
+// d to corner d + 2; an edge's cells in increasing order (the other one: the cell of the edge's
+// first corner that holds the same slot), a diagonal's its own; the reference length
+// |x0_j - x0_i|. A slot of two cells, or of a cell that converts again after a restore, is
+// written with the same values again.
+struct SlotTopologyFill {
+  Topology topo;
+  View<double* [2]> x0;
+  Bonds bonds;
+  KOKKOS_INLINE_FUNCTION void operator()(const int e, const int position) const {
+    const int b = topo.element_slots(e, position);
+    if (b < 0) return;
+    int i, j, other = -1;
+    if (position < 4) {
+      const int p = topo.element_nodes(e, position);
+      const int q = topo.element_nodes(e, (position + 1) % 4);
+      i = min_(p, q);
+      j = max_(p, q);
+      for (int m = topo.node_element_offset(p); m < topo.node_element_offset(p + 1); ++m) {
+        const int cell = topo.node_element(m);
+        const int at = cell == e ? -1 : topo.slot_position(cell, p, q);
+        if (at >= 0 && topo.element_slots(cell, at) == b) other = cell;
+      }
+    } else {
+      i = topo.element_nodes(e, position - 4);
+      j = topo.element_nodes(e, position - 2);
+    }
+    bonds.nodes(b, 0) = i;
+    bonds.nodes(b, 1) = j;
+    bonds.cells(b, 0) = other < 0 ? e : min_(e, other);
+    bonds.cells(b, 1) = other < 0 ? -1 : max_(e, other);
+    bonds.length0(b) = hypot_(x0(j, 0) - x0(i, 0), x0(j, 1) - x0(i, 1));
+  }
+};
+
+// The slots of the cells listed in `cells`: run before a conversion reads them
+// (prestress_converted_bonds).
+inline void fill_slot_topology(const View<int*>& cells, int count, const Topology& topo,
+                               const Nodes& nodes, const Bonds& bonds) {
+  if (count == 0) return;
+  const SlotTopologyFill fill{topo, nodes.x0, bonds};
+  Kokkos::parallel_for(
+      "fracta::fill_slot_topology", Kokkos::RangePolicy<ExecSpace>(0, 6 * count),
+      KOKKOS_LAMBDA(const int k) { fill(cells(k / 6), k % 6); });
+}
+
+// The slots of every cell (a set-up that reads them all: the strength draws of
+// heterogeneity.hpp).
+inline void fill_all_slot_topology(const Topology& topo, const Nodes& nodes, const Bonds& bonds) {
+  const int ne = static_cast<int>(topo.element_slots.extent(0));
+  const SlotTopologyFill fill{topo, nodes.x0, bonds};
+  Kokkos::parallel_for(
+      "fracta::fill_all_slot_topology", Kokkos::RangePolicy<ExecSpace>(0, 6 * ne),
+      KOKKOS_LAMBDA(const int k) { fill(k / 6, k % 6); });
 }
 
 // Activates the bond slots of the elements listed in `converted` and makes their nodes discs.
@@ -632,27 +690,11 @@ inline void finish_converted_bonds(const View<int*>& cells, int count,
 namespace fracta {
 
 // Lists of the used bond slots (Bonds::used) and of the particles (Nodes::particle_list), both
-// increasing. They are functions of bonds.state and nodes.particle, built once by a scan and
-// then kept up to date by the conversion, which only adds entries: it collects the slots and
-// nodes it is about to activate (collect_new_*), and after activation inserts them
-// (insert_sorted). Deterministic: no atomic decides an order.
-
-// Rebuilds bonds.used from bonds.state; returns the count.
-inline int build_used_bonds(const Bonds& bonds) {
-  int count = 0;
-  if (bonds.count == 0) return count;
-  const auto state = bonds.state;
-  const auto used = bonds.used;
-  Kokkos::parallel_scan(
-      "fracta::used_bonds_scan", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
-      KOKKOS_LAMBDA(const int b, int& partial, const bool final) {
-        if (state(b) == kBondInactive) return;
-        if (final) used(partial) = b;
-        ++partial;
-      },
-      count);
-  return count;
-}
+// increasing. They are functions of bonds.state and nodes.particle, built at set-up (the
+// particles by a scan, the slots from the de cells: build_lattice) and then kept up to date by
+// the conversion, which only adds entries: it collects the slots and nodes it is about to
+// activate (collect_new_*), and after activation inserts them (insert_sorted). Deterministic:
+// no atomic decides an order.
 
 // Rebuilds nodes.particle_list from nodes.particle; returns the count.
 inline int build_particle_list(const Nodes& nodes) {
@@ -671,9 +713,10 @@ inline int build_particle_list(const Nodes& nodes) {
   return count;
 }
 
-// Work space of insert_sorted: candidates of at most kCapacity entries (larger batches rebuild
-// the lists with the scans above), and a merge buffer as long as the longest list.
+// Work space of insert_sorted: candidates (kCapacity entries, grown by reserve for a larger
+// batch and kept), and a merge buffer as long as the longest list.
 struct ListWorkspace {
+  // Batches up to this many candidates are ranked pairwise, larger ones sorted (insert_sorted).
   static constexpr int kCapacity = 1024;
   View<int*> bond_candidates, particle_candidates, keep, sorted, merged;
   ListWorkspace() = default;
@@ -683,6 +726,15 @@ struct ListWorkspace {
         keep("fracta::list_keep", kCapacity),
         sorted("fracta::list_sorted", kCapacity),
         merged(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::list_merged"), longest) {}
+  // Room for `k` candidates in each buffer but merged (twice the size asked when it grows, so
+  // that a run's few large batches allocate once or twice).
+  void reserve(const int k) {
+    if (static_cast<int>(keep.extent(0)) >= k) return;
+    const int capacity =
+        k > 2 * static_cast<int>(keep.extent(0)) ? k : 2 * static_cast<int>(keep.extent(0));
+    for (View<int*>* buffer : {&bond_candidates, &particle_candidates, &keep, &sorted})
+      Kokkos::realloc(*buffer, capacity);
+  }
 };
 
 // Slots of the cells that the activation will turn from inactive to active (-1: none).
@@ -712,24 +764,41 @@ inline void collect_new_particles(const View<int*>& cells, int count, const Elem
 }
 
 // Inserts candidates[0, k) (any order, duplicates and -1 entries allowed, none of them in the
-// list) into the increasing list [0, count); returns the new count. k <= kCapacity: the
-// candidates are deduplicated and ranked pairwise (O(k^2), small), then the two increasing
-// lists are merged (every entry finds its place by a binary search in the other).
+// list) into the increasing list [0, count); returns the new count. The candidates are
+// deduplicated and put in increasing order, then the two increasing lists are merged (every
+// entry finds its place by a binary search in the other). Up to kCapacity candidates, ranked
+// pairwise (O(k^2), small); more (a large conversion, the set-up's), sorted in place and
+// compacted (O(k log k)). Either way the list is the same: the increasing set of its entries,
+// which no scan of every slot or node need touch (ws: buffers of >= k entries).
 inline int insert_sorted(const View<int*>& list, int count, const View<int*>& candidates, int k,
                          const ListWorkspace& ws) {
   if (k == 0) return count;
   const auto keep = ws.keep;
   const auto sorted = ws.sorted;
   const auto merged = ws.merged;
-  Kokkos::parallel_for(
-      "fracta::list_dedupe", Kokkos::RangePolicy<ExecSpace>(0, k), KOKKOS_LAMBDA(const int i) {
-        const int v = candidates(i);
-        int first = v >= 0 ? 1 : 0;
-        for (int j = 0; j < i && first; ++j)
-          if (candidates(j) == v) first = 0;
-        keep(i) = first;
-      });
-  const int added = rank_kept("fracta::list_rank", candidates, keep, k, sorted);
+  int added = 0;
+  if (k <= ListWorkspace::kCapacity) {
+    Kokkos::parallel_for(
+        "fracta::list_dedupe", Kokkos::RangePolicy<ExecSpace>(0, k), KOKKOS_LAMBDA(const int i) {
+          const int v = candidates(i);
+          int first = v >= 0 ? 1 : 0;
+          for (int j = 0; j < i && first; ++j)
+            if (candidates(j) == v) first = 0;
+          keep(i) = first;
+        });
+    added = rank_kept("fracta::list_rank", candidates, keep, k, sorted);
+  } else {
+    Kokkos::sort(candidates, 0, k);
+    Kokkos::parallel_scan(
+        "fracta::list_unique", Kokkos::RangePolicy<ExecSpace>(0, k),
+        KOKKOS_LAMBDA(const int i, int& partial, const bool final) {
+          const int v = candidates(i);
+          if (v < 0 || (i > 0 && candidates(i - 1) == v)) return;
+          if (final) sorted(partial) = v;
+          ++partial;
+        },
+        added);
+  }
   if (added == 0) return count;
   const int total = count + added;
   merge_disjoint_sorted("fracta::list_merge", list, count, sorted, added, merged);

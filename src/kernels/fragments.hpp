@@ -24,7 +24,7 @@
 // fragment; only the per-fragment totals (count entries) are copied to the host.
 //
 // Reads only nodes.count, nodes.mass, elements.count, elements.nodes, elements.alive,
-// bonds.count, bonds.nodes, bonds.state (empty Bonds or Elements are fine).
+// bonds.count, bonds.used, bonds.nodes, bonds.state (empty Bonds or Elements are fine).
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -119,7 +119,11 @@ inline void label_fragments(int node_count, const Elements& elements, const Bond
       "fracta::fragments_init", Kokkos::RangePolicy<ExecSpace>(0, node_count),
       KOKKOS_LAMBDA(const int i) { raw(i) = i; });
   // One pass over bond slots and elements (bonds first in the range).
-  const int nb = bonds.count, ne = elements.count;
+  // The used slots alone when listed (the others are inactive): a sweep of every slot's state
+  // would commit the pages of the slots no cell converted.
+  const int nb = bond_list_count(bonds), ne = elements.count;
+  const View<int*> used = bonds_listed(bonds) ? bonds.used : View<int*>();
+  const bool listed = used.extent(0) > 0;
   const View<int* [2]> bond_nodes = bonds.nodes;
   const View<int*> bond_state = bonds.state;
   const View<int* [4]> element_nodes = elements.nodes;
@@ -129,8 +133,9 @@ inline void label_fragments(int node_count, const Elements& elements, const Bond
         "fracta::fragments_unite", Kokkos::RangePolicy<ExecSpace>(0, nb + ne),
         KOKKOS_LAMBDA(const int k) {
           if (k < nb) {
-            if (bond_state(k) == kBondActive)
-              detail::unite(parent, raw, bond_nodes(k, 0), bond_nodes(k, 1));
+            const int b = listed ? used(k) : k;
+            if (bond_state(b) == kBondActive)
+              detail::unite(parent, raw, bond_nodes(b, 0), bond_nodes(b, 1));
           } else {
             const int e = k - nb;
             if (!alive(e)) return;

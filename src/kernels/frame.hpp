@@ -48,6 +48,12 @@ inline FrameCounts count_frame(const Nodes& nodes, const Elements& elements, con
   Kokkos::parallel_reduce(
       "fracta::frame_count_discs", Kokkos::RangePolicy<ExecSpace>(0, nodes.count),
       KOKKOS_LAMBDA(const int i, int& sum) { sum += particle(i) ? 1 : 0; }, c.discs);
+  // The used list holds the slots that are not inactive (state.hpp), so it is the count; a scan
+  // of every slot's state would also commit the pages of the slots no cell converted.
+  if (bonds_listed(bonds)) {
+    c.bonds = bonds.used_count;
+    return c;
+  }
   const auto state = bonds.state;
   Kokkos::parallel_reduce(
       "fracta::frame_count_bonds", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
@@ -126,9 +132,13 @@ inline void pack_frame(const Nodes& nodes, const Elements& elements, const Bonds
     const auto ends = bonds.nodes;
     const auto fn = bonds.fn, damage = bonds.damage;
     const bool softens = bonds.may_soften;  // else every damage is 0
+    // The used slots (in increasing order, as a sweep of every slot finds them) when listed.
+    const auto used = bonds_listed(bonds) ? bonds.used : View<int*>();
+    const bool listed = used.extent(0) > 0;
     Kokkos::parallel_scan(
-        "fracta::frame_bonds", Kokkos::RangePolicy<ExecSpace>(0, bonds.count),
-        KOKKOS_LAMBDA(const int b, int& k, const bool final) {
+        "fracta::frame_bonds", Kokkos::RangePolicy<ExecSpace>(0, bond_list_count(bonds)),
+        KOKKOS_LAMBDA(const int position, int& k, const bool final) {
+          const int b = listed ? used(position) : position;
           if (state(b) == kBondInactive) return;
           if (final) {
             out.bond_nodes(2 * k) = ends(b, 0);

@@ -47,12 +47,12 @@ KOKKOS_INLINE_FUNCTION void buffer_to_row(const RowBuffer<V>& buffer, const int 
     for (int c = 0; c < columns; ++c) view(row, c) = buffer(r, c);
 }
 template <class V>
-KOKKOS_INLINE_FUNCTION void zero_row(const V& view, const int row, const int columns) {
-  using Value = typename V::non_const_value_type;
+KOKKOS_INLINE_FUNCTION void fill_row(const V& view, const int row, const int columns,
+                                     const typename V::non_const_value_type value) {
   if constexpr (V::rank == 1)
-    view(row) = Value(0);
+    view(row) = value;
   else
-    for (int c = 0; c < columns; ++c) view(row, c) = Value(0);
+    for (int c = 0; c < columns; ++c) view(row, c) = value;
 }
 
 // buffer(r, c) = view(map(r), c) for r < rows.
@@ -75,13 +75,15 @@ inline void scatter_rows(const RowBuffer<V>& buffer, const RowMap& map, const in
       KOKKOS_LAMBDA(const int r) { buffer_to_row(buffer, r, view, map(r), columns); });
 }
 
-// view(map(r), c) = 0 for r < rows: the value a row had before it joined its list.
+// view(map(r), c) = value for r < rows: by default 0, the value a row had before it joined its
+// list.
 template <class V>
-inline void reset_rows(const V& view, const RowMap& map, const int rows) {
+inline void reset_rows(const V& view, const RowMap& map, const int rows,
+                       const typename V::non_const_value_type value = 0) {
   const int columns = columns_of(view);
   Kokkos::parallel_for(
       "fracta::reset_rows", Kokkos::RangePolicy<ExecSpace>(0, rows),
-      KOKKOS_LAMBDA(const int r) { zero_row(view, map(r), columns); });
+      KOKKOS_LAMBDA(const int r) { fill_row(view, map(r), columns, value); });
 }
 
 }  // namespace fracta

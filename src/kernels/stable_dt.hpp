@@ -201,7 +201,7 @@ inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, double cont
 }
 
 // The same bound over the particle list (Nodes::particle_list), each particle gathering its
-// rows from its bond slots (Topology::node_bond, in increasing slot order: the order in which
+// rows from its bond slots (Topology::node_slots, in increasing slot order: the order in which
 // the sweep's atomic adds arrive on one thread, so the value is the sweep's), in one pass with
 // no atomics and no row storage. The ends of active bonds are particles; a contact disc that is
 // not a particle has the bound contact(n) alone, and a particle's bound is at least its
@@ -226,7 +226,7 @@ inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, const Topol
                              double contact_allowance, StableDtWorkspace& ws,
                              const View<const LatticeStiffness*>& stiffness = {}) {
   if (!nodes.has_particles()) return 1e300;
-  if (nodes.particle_list.extent(0) == 0 || topology.node_bond_offset.extent(0) == 0)
+  if (nodes.particle_list.extent(0) == 0 || topology.element_slots.extent(0) == 0)
     return bond_stable_dt(nodes, bonds, contact_allowance, stiffness);
   const GershgorinBound bound{nodes, {}, contact_allowance};
   if (ws.allowance != contact_allowance) {
@@ -253,8 +253,6 @@ inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, const Topol
   const bool all = !cache || !ws.cached;  // recompute every particle
   const bool write_bound = ws.bound.extent(0) == static_cast<size_t>(nodes.count);
   const auto particles = nodes.particle_list;
-  const auto offset = topology.node_bond_offset;
-  const auto slots = topology.node_bond;
   const auto stale = nodes.bound_stale;
   const auto cached_bound = ws.bound;
   double lambda = 0.0;
@@ -265,8 +263,10 @@ inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, const Topol
         double l;
         if (all || stale(n)) {
           double row_trans = 0.0, row_rot = 0.0;
-          for (int q = offset(n); q < offset(n + 1); ++q) {
-            const int b = slots(q);
+          int slots[Topology::kMaxNodeSlots];
+          const int slot_count = topology.node_slots(n, slots);
+          for (int q = 0; q < slot_count; ++q) {
+            const int b = slots[q];
             if (bonds.state(b) != kBondActive) continue;
             double trans, rot;
             gershgorin_terms(nodes, bonds, b, bonds.nodes(b, 0) == n ? 0 : 1, trans, rot,
@@ -293,18 +293,18 @@ inline double bond_stable_dt(const Nodes& nodes, const Bonds& bonds, const Topol
 // other end's radius, mass and inertia).
 inline void mark_converted_rows(const View<int*>& cells, int count, const Elements& el,
                                 const Nodes& nodes, const Bonds& bonds, const Topology& topology) {
-  if (count == 0 || nodes.bound_stale.extent(0) == 0 || topology.node_bond_offset.extent(0) == 0)
+  if (count == 0 || nodes.bound_stale.extent(0) == 0 || topology.element_slots.extent(0) == 0)
     return;
   const auto stale = nodes.bound_stale;
-  const auto offset = topology.node_bond_offset;
-  const auto slots = topology.node_bond;
   Kokkos::parallel_for(
       "fracta::mark_converted_rows", Kokkos::RangePolicy<ExecSpace>(0, 4 * count),
       KOKKOS_LAMBDA(const int k) {
         const int n = el.nodes(cells(k / 4), k % 4);
         stale(n) = 1;  // every writer writes 1
-        for (int q = offset(n); q < offset(n + 1); ++q) {
-          const int b = slots(q);
+        int slots[Topology::kMaxNodeSlots];
+        const int slot_count = topology.node_slots(n, slots);
+        for (int q = 0; q < slot_count; ++q) {
+          const int b = slots[q];
           if (bonds.state(b) != kBondActive) continue;
           stale(bonds.nodes(b, 0) == n ? bonds.nodes(b, 1) : bonds.nodes(b, 0)) = 1;
         }

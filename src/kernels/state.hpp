@@ -6,9 +6,11 @@
 //  - Elements: body by body, the mesh index never changes; `active` lists the indices of the
 //    active (not converted) elements in increasing order.
 //  - Quadrature points: element e owns points [e * qp_per_element, (e + 1) * qp_per_element).
-//  - Bonds: the bond slots of the mesh, fixed at set-up (every element edge once and every
+//  - Bonds: the bond slots of the mesh, numbered at set-up (every element edge once and every
 //    element diagonal, in runs of one direction: build_lattice); a slot is never moved or
-//    removed, its `state` masks it.
+//    removed, its `state` masks it. A slot's topology (ends, cells, reference length) is written
+//    when one of its cells converts (fill_slot_topology), so that it costs memory only where the
+//    lattice is.
 //  - Particle views of Nodes are sized to the node count when the scene can have particles
 //    (a de or adaptive body), and empty otherwise.
 #pragma once
@@ -67,7 +69,6 @@ struct Nodes {
   View<double* [2]> f_ext;  // external force (N), rebuilt every step
   View<double*> mass;       // lumped mass (kg), constant
   View<int*> fixed;         // FixedDof bits
-  View<int*> body;
   int count = 0;
   // Particle (disc) state of a node (docs/physics.md 1.3); empty views when no body can convert.
   View<int*> particle;              // 1 if the node is a disc (a DE particle)
@@ -185,8 +186,9 @@ enum BondRunBits : unsigned char { kRunContinues = 1, kRunNormalOnly = 2 };
 // disc i is fn n + fs t (on j the opposite); disc i receives the moment l_i fs, with l_i the
 // distance from its centre to the contact point (l_i = r_i at the rest length).
 struct Bonds {
+  // Ends, cells and reference length: written when a cell of the slot converts
+  // (fill_slot_topology) and never changed after; 0 before (read them for used slots only).
   View<int* [2]> nodes;
-  View<int*> kind;          // BondKind
   View<int*> material;      // material of the elements that activated it
   View<int*> state;         // BondState
   View<double*> kn;         // normal stiffness (N/m), sum of element contributions
@@ -220,6 +222,10 @@ struct Bonds {
   // kRunNormalOnly where b is a diagonal (no shear spring). The CPU batches of a run read it
   // instead of the slots' ends, cells and materials (BondForces::batch).
   View<unsigned char*> run_next;
+  // BondKind of slot b: diagonals are the slots without a shear spring (run_next).
+  KOKKOS_INLINE_FUNCTION int kind(const int b) const {
+    return (run_next(b) & kRunNormalOnly) ? kBondDiagonal : kBondEdge;
+  }
   // Forces without atomics on CPUs: the chunks of the used list (or of every slot), coloured so
   // that no two chunks of a colour share a disc (kernels/scatter.hpp; update_scatter_plan after
   // every change of `used`).
@@ -248,26 +254,69 @@ inline int bond_list_count(const Bonds& bonds) {
   return bonds_listed(bonds) ? bonds.used_count : bonds.count;
 }
 
-// Who is joined to whom, for contact exclusion: node -> bond slots and node -> elements (CSR).
-// Two discs joined by an active bond or by an active element never contact.
+// Who is joined to whom, for contact exclusion, and which bond slots a node has: node ->
+// elements (CSR) and each element's corners and slots. Two discs joined by an active bond or by
+// an active element never contact. Every bond slot is an edge or a diagonal of a lattice cell
+// (build_lattice), so a node's slots are those of its cells that end at it: no node -> slot list.
 struct Topology {
-  View<int*> node_bond_offset, node_bond;        // bonds of node n: [offset(n), offset(n+1))
-  View<int*> node_element_offset, node_element;  // elements of node n
+  View<int*> node_element_offset, node_element;  // elements of node n: [offset(n), offset(n+1))
   View<int*> element_alive;                      // 1 while the element is an active FE element
-  View<int* [2]> bond_nodes;
+  View<int* [4]> element_nodes;                  // Elements::nodes
+  View<int* [6]> element_slots;                  // Model::element_bonds (-1: none)
   View<int*> bond_state;
 
-  KOKKOS_INLINE_FUNCTION bool joined(int i, int j) const {
-    for (int k = node_bond_offset(i); k < node_bond_offset(i + 1); ++k) {
-      const int b = node_bond(k);
-      if (bond_state(b) == kBondActive && (bond_nodes(b, 0) == j || bond_nodes(b, 1) == j))
-        return true;
+  // Most slots a node can have among its cells (4 cells of 3 slots at a node; duplicates
+  // included: an edge is two cells' slot).
+  static constexpr int kMaxNodeSlots = 12;
+
+  // Slot position in element e (0..3 the edges a: corners a, a + 1; 4, 5 the diagonals d:
+  // corners d, d + 2) joining its corners i and j; -1 when one is not a corner of e.
+  KOKKOS_INLINE_FUNCTION int slot_position(const int e, const int i, const int j) const {
+    int ai = -1, aj = -1;
+    for (int a = 0; a < 4; ++a) {
+      const int n = element_nodes(e, a);
+      if (n == i) ai = a;
+      if (n == j) aj = a;
     }
+    if (ai < 0 || aj < 0 || ai == aj) return -1;
+    const int step = (aj - ai + 4) % 4;
+    return step == 2 ? 4 + ai % 2 : step == 1 ? ai : aj;
+  }
+
+  // The bond slots of node n, increasing and without repeats, into `slots`; returns how many.
+  KOKKOS_INLINE_FUNCTION int node_slots(const int n, int (&slots)[kMaxNodeSlots]) const {
+    int count = 0;
+    for (int k = node_element_offset(n); k < node_element_offset(n + 1); ++k) {
+      const int e = node_element(k);
+      int a = 0;
+      while (a < 4 && element_nodes(e, a) != n) ++a;
+      const int at_node[3] = {a, (a + 3) % 4, 4 + a % 2};  // the edges from and to n, its diagonal
+      for (const int position : at_node) {
+        const int b = element_slots(e, position);
+        if (b < 0) continue;
+        int m = count;
+        bool repeat = false;
+        for (int q = 0; q < count; ++q) repeat = repeat || slots[q] == b;
+        if (repeat || count == kMaxNodeSlots) continue;
+        while (m > 0 && slots[m - 1] > b) {
+          slots[m] = slots[m - 1];
+          --m;
+        }
+        slots[m] = b;
+        ++count;
+      }
+    }
+    return count;
+  }
+
+  KOKKOS_INLINE_FUNCTION bool joined(int i, int j) const {
     for (int k = node_element_offset(i); k < node_element_offset(i + 1); ++k) {
       const int e = node_element(k);
-      if (!element_alive(e)) continue;
-      for (int k2 = node_element_offset(j); k2 < node_element_offset(j + 1); ++k2)
-        if (node_element(k2) == e) return true;
+      const int position = slot_position(e, i, j);
+      if (position < 0) continue;
+      if (element_alive(e)) return true;
+      const int b = element_slots(e, position);
+      if (b >= 0 && bond_state(b) == kBondActive) return true;
     }
     return false;
   }

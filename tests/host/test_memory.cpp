@@ -39,8 +39,8 @@ TEST(Memory, OneCellBodyRunsForEveryMethod) {
     c.bodies[0].method = method;
     c.bodies[0].initial_velocity = {3.0, -2.0};
     Simulation sim(c);
-    ASSERT_EQ(sim.model().mesh.element_count(), 1);
-    ASSERT_EQ(sim.model().mesh.node_count(), 4);
+    ASSERT_EQ(sim.model().elements.count, 1);
+    ASSERT_EQ(sim.model().nodes.count, 4);
     const double mass = 7800.0 * 1e-3 * 1e-3 * 0.01;  // rho * area * thickness (kg)
     const double worst_energy_error = test::run_to_end(sim);
     EXPECT_FALSE(sim.failed());

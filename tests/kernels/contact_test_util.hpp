@@ -41,7 +41,6 @@ inline Nodes make_nodes(const HostDiscs& h) {
   nodes.f_ext = View<double* [2]>("fracta::test_f_ext", n);
   nodes.mass = View<double*>("fracta::test_mass", n);
   nodes.fixed = View<int*>("fracta::test_fixed", n);
-  nodes.body = View<int*>("fracta::test_body", n);
   nodes.particle = View<int*>("fracta::test_particle", n);
   nodes.radius = View<double*>("fracta::test_radius", n);
   nodes.inertia = View<double*>("fracta::test_inertia", n);
@@ -85,48 +84,48 @@ inline Nodes make_nodes(const HostDiscs& h) {
 }
 
 // A topology over `n` nodes with the given bonds (all active) and elements (all alive, each a
-// list of 4 node ids). Empty lists: nothing is joined.
+// list of 4 node ids). Empty lists: nothing is joined. A mesh's slots are its cells' edges and
+// diagonals (Topology); a free bond {i, j} here is the first edge of a cell of its own that is
+// not alive and whose other corners are no node (-1), after the given elements.
 inline Topology make_topology(int n, const std::vector<std::array<int, 2>>& bonds = {},
                               const std::vector<std::array<int, 4>>& elements = {}) {
   Topology t;
   const int nb = static_cast<int>(bonds.size()), ne = static_cast<int>(elements.size());
-  t.node_bond_offset = View<int*>("fracta::test_node_bond_offset", n + 1);
-  t.node_bond = View<int*>("fracta::test_node_bond", 2 * nb);
-  t.bond_nodes = View<int* [2]>("fracta::test_bond_nodes", nb);
+  const int cells = ne + nb;
   t.bond_state = View<int*>("fracta::test_bond_state", nb);
   t.node_element_offset = View<int*>("fracta::test_node_element_offset", n + 1);
-  t.node_element = View<int*>("fracta::test_node_element", 4 * ne);
-  t.element_alive = View<int*>("fracta::test_element_alive", ne);
-  auto bo = Kokkos::create_mirror_view(t.node_bond_offset);
-  auto nbv = Kokkos::create_mirror_view(t.node_bond);
-  auto bn = Kokkos::create_mirror_view(t.bond_nodes);
+  t.node_element = View<int*>("fracta::test_node_element", 4 * ne + 2 * nb);
+  t.element_alive = View<int*>("fracta::test_element_alive", cells);
+  t.element_nodes = View<int* [4]>("fracta::test_element_nodes", cells);
+  t.element_slots = View<int* [6]>("fracta::test_element_slots", cells);
   auto eo = Kokkos::create_mirror_view(t.node_element_offset);
   auto nev = Kokkos::create_mirror_view(t.node_element);
-  std::vector<std::vector<int>> node_bonds(n), node_elements(n);
-  for (int b = 0; b < nb; ++b) {
-    bn(b, 0) = bonds[b][0];
-    bn(b, 1) = bonds[b][1];
-    node_bonds[bonds[b][0]].push_back(b);
-    node_bonds[bonds[b][1]].push_back(b);
+  auto alive = Kokkos::create_mirror_view(t.element_alive);
+  auto corners = Kokkos::create_mirror_view(t.element_nodes);
+  auto slots = Kokkos::create_mirror_view(t.element_slots);
+  std::vector<std::vector<int>> node_elements(n);
+  for (int e = 0; e < cells; ++e) {
+    for (int a = 0; a < 6; ++a) slots(e, a) = -1;
+    alive(e) = e < ne ? 1 : 0;
+    for (int c = 0; c < 4; ++c) {
+      const int node = e < ne ? elements[e][c] : c < 2 ? bonds[e - ne][c] : -1;
+      corners(e, c) = node;
+      if (node >= 0) node_elements[node].push_back(e);
+    }
+    if (e >= ne) slots(e, 0) = e - ne;
   }
-  for (int e = 0; e < ne; ++e)
-    for (int c = 0; c < 4; ++c) node_elements[elements[e][c]].push_back(e);
-  int kb = 0, ke = 0;
+  int ke = 0;
   for (int i = 0; i < n; ++i) {
-    bo(i) = kb;
-    for (int b : node_bonds[i]) nbv(kb++) = b;
     eo(i) = ke;
     for (int e : node_elements[i]) nev(ke++) = e;
   }
-  bo(n) = kb;
   eo(n) = ke;
-  Kokkos::deep_copy(t.node_bond_offset, bo);
-  Kokkos::deep_copy(t.node_bond, nbv);
-  Kokkos::deep_copy(t.bond_nodes, bn);
   Kokkos::deep_copy(t.bond_state, static_cast<int>(kBondActive));
   Kokkos::deep_copy(t.node_element_offset, eo);
   Kokkos::deep_copy(t.node_element, nev);
-  Kokkos::deep_copy(t.element_alive, 1);
+  Kokkos::deep_copy(t.element_alive, alive);
+  Kokkos::deep_copy(t.element_nodes, corners);
+  Kokkos::deep_copy(t.element_slots, slots);
   return t;
 }
 

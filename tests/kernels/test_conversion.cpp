@@ -37,6 +37,7 @@ TEST(Conversion, CompactionEdgeCases) {
   for (int pattern = 0; pattern < 4; ++pattern) {
     Simulation sim(adaptive_case(5, 4, 1e-3));
     Model& m = sim.model();
+    View<int*> cells_out("cells_out", m.elements.count);  // the converted cells, in order
     std::vector<int> marked, kept;
     for (int e = 0; e < 20; ++e) {
       const bool convert = pattern == 1 ? e % 2 == 0 : pattern >= 2;
@@ -44,14 +45,14 @@ TEST(Conversion, CompactionEdgeCases) {
     }
     mark(sim, marked);
     if (pattern == 3) {  // empty list: convert everything first, then compact again
-      compact_converted(m.elements, m.element_adaptive, m.materials, false, m.new_cells,
+      compact_converted(m.elements, m.element_adaptive, m.materials, false, cells_out,
                         m.active_scratch);
     }
-    const int n = compact_converted(m.elements, m.element_adaptive, m.materials, false, m.new_cells,
+    const int n = compact_converted(m.elements, m.element_adaptive, m.materials, false, cells_out,
                                     m.active_scratch);
     EXPECT_EQ(n, pattern == 3 ? 0 : static_cast<int>(marked.size()));
     EXPECT_EQ(active_host(m.elements), pattern == 3 ? std::vector<int>{} : kept);
-    auto cells = Kokkos::create_mirror_view_and_copy(HostSpace(), m.new_cells);
+    auto cells = Kokkos::create_mirror_view_and_copy(HostSpace(), cells_out);
     if (pattern != 3) {
       for (int k = 0; k < n; ++k) EXPECT_EQ(cells(k), marked[k]);
     }
@@ -66,16 +67,17 @@ TEST(Conversion, CandidateCompactionMatchesTheSweep) {
     for (int run = 0; run < 2; ++run) {
       Simulation sim(adaptive_case(5, 4, 1e-3));
       Model& m = sim.model();
+      View<int*> cells_out("cells_out", m.elements.count);  // the converted cells, in order
       std::vector<int> marked;
       for (int e = 0; e < 20; ++e)
         if (pattern == 1 ? e % 2 == 0 : pattern >= 2) marked.push_back(e);
       mark(sim, marked);
       if (pattern == 3)  // empty list: convert everything first
-        compact_converted(m.elements, m.element_adaptive, m.materials, false, m.new_cells,
+        compact_converted(m.elements, m.element_adaptive, m.materials, false, cells_out,
                           m.active_scratch);
       int n = 0;
       if (run == 0) {
-        n = compact_converted(m.elements, m.element_adaptive, m.materials, false, m.new_cells,
+        n = compact_converted(m.elements, m.element_adaptive, m.materials, false, cells_out,
                               m.active_scratch);
       } else {
         // Every position in reverse order, the marked ones twice, and an out-of-range one.
@@ -89,10 +91,10 @@ TEST(Conversion, CandidateCompactionMatchesTheSweep) {
         Kokkos::deep_copy(candidates, h);
         View<int*> keep("keep", cand.size()), sorted("sorted", cand.size());
         n = compact_candidates(m.elements, m.element_adaptive, m.materials, false, candidates,
-                               static_cast<int>(cand.size()), keep, sorted, m.new_cells,
+                               static_cast<int>(cand.size()), keep, sorted, cells_out,
                                m.active_scratch);
       }
-      auto cells = Kokkos::create_mirror_view_and_copy(HostSpace(), m.new_cells);
+      auto cells = Kokkos::create_mirror_view_and_copy(HostSpace(), cells_out);
       const std::vector<int> new_cells(cells.data(), cells.data() + n);
       if (run == 0) {
         expected_active = active_host(m.elements);
@@ -435,8 +437,9 @@ TEST(Conversion, HjcElementsConvertAtTheirConversionDamageOnly) {
       sim.step();
       EXPECT_EQ(sim.conversions(), 2);
     } else {
+      const View<int*> cells_out("cells_out", model.elements.count);
       EXPECT_EQ(compact_converted(model.elements, model.element_adaptive, model.materials, true,
-                                  model.new_cells, model.active_scratch),
+                                  cells_out, model.active_scratch),
                 2);
     }
     const auto alive = Kokkos::create_mirror_view_and_copy(HostSpace(), model.elements.alive);

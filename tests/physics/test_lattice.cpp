@@ -98,12 +98,12 @@ struct TensionRun {
 double weakest_bond(const Model& model) {
   const auto scale = Kokkos::create_mirror_view_and_copy(HostSpace(), model.bonds.strength_scale);
   const auto ends = Kokkos::create_mirror_view_and_copy(HostSpace(), model.bonds.nodes);
-  const auto kind = Kokkos::create_mirror_view_and_copy(HostSpace(), model.bonds.kind);
   const auto x0 = Kokkos::create_mirror_view_and_copy(HostSpace(), model.nodes.x0);
   double weakest = 1e300;
   for (int b = 0; b < model.bonds.count; ++b) {
+    const double dx = x0(ends(b, 1), 0) - x0(ends(b, 0), 0);
     const double dy = x0(ends(b, 1), 1) - x0(ends(b, 0), 1);
-    if (kind(b) == kBondDiagonal)
+    if (std::fabs(dx) > 1e-9 && std::fabs(dy) > 1e-9)  // a diagonal
       weakest = std::min(weakest, 2.0 * scale(b));
     else if (std::fabs(dy) < 1e-9)
       weakest = std::min(weakest, scale(b));

@@ -28,12 +28,12 @@ struct TaylorResult {
 // Volume of revolution of the mesh (Pappus, edge by edge: exact for straight edges).
 double volume_of_revolution(Simulation& sim) {
   const auto x = Kokkos::create_mirror_view_and_copy(HostSpace(), sim.model().nodes.x);
-  const auto& elements = sim.model().mesh.element_nodes;
+  const auto en = Kokkos::create_mirror_view_and_copy(HostSpace(), sim.model().elements.nodes);
   double volume = 0.0;
-  for (const auto& en : elements) {
+  for (int e = 0; e < sim.model().elements.count; ++e) {
     double v = 0.0;
     for (int a = 0; a < 4; ++a) {
-      const int i = en[a], j = en[(a + 1) % 4];
+      const int i = en(e, a), j = en(e, (a + 1) % 4);
       const double r1 = x(i, 0), z1 = x(i, 1), r2 = x(j, 0), z2 = x(j, 1);
       v += M_PI * (r1 * r1 + r1 * r2 + r2 * r2) * (z2 - z1) / 3.0;
     }
