@@ -131,9 +131,8 @@ TEST(Simulation, DeferredKicksGiveTheSameRunThroughConversions) {
   EXPECT_NEAR(hd.energy.error, hp.energy.error, 1e-12);  // J
 }
 
-// A checkpoint taken while a support holds a strip and a bar pushes it (the held components are
-// state: nodes.fixed) continues exactly as the uninterrupted run: every state view, bitwise.
-TEST(Simulation, RestartWithSupportsAndBarsIsExact) {
+// A 20 x 2 mm strip moving at 5 m/s onto a push-only support at its left end.
+Case strip_onto_a_support() {
   Case c = test::rectangle_case(40, 4, 0.5e-3);
   c.bodies[0].initial_velocity = {-5.0, 0.0};
   Boundary support;
@@ -143,7 +142,15 @@ TEST(Simulation, RestartWithSupportsAndBarsIsExact) {
   support.where.kind = NodeSelector::Kind::segment;
   support.where.segment = test::segment(0, 0, 0, 2e-3);
   c.boundaries.push_back(support);
-  Boundary bar = support;
+  c.sim.end_time = 1e-3;
+  return c;
+}
+
+// A checkpoint taken while a support holds a strip and a bar pushes it (the held components are
+// state: nodes.fixed) continues exactly as the uninterrupted run: every state view, bitwise.
+TEST(Simulation, RestartWithSupportsAndBarsIsExact) {
+  Case c = strip_onto_a_support();
+  Boundary bar = c.boundaries.back();
   bar.name = "bar";
   bar.type = Boundary::Type::bar;
   bar.direction = {-1.0, 0.0};
@@ -153,7 +160,6 @@ TEST(Simulation, RestartWithSupportsAndBarsIsExact) {
   bar.time = {0.0, 1e-6};
   bar.value = {0.0, 10.0};  // faster than the strip moves away from it
   c.boundaries.push_back(bar);
-  c.sim.end_time = 1e-3;
   const std::string checkpoint =
       (std::filesystem::temp_directory_path() / "fracta_support_restart.ckpt.h5").string();
   Simulation uninterrupted(c), restarted(c);
@@ -177,17 +183,7 @@ TEST(Simulation, RestartWithSupportsAndBarsIsExact) {
 // (nodes.fixed), which a scene without supports never writes and so never copies
 // (state_view_constant). A snapshot that kept no copy of it here would leave the strip free.
 TEST(Simulation, RestoreAfterASupportLetsGoIsBitForBit) {
-  Case c = test::rectangle_case(40, 4, 0.5e-3);
-  c.bodies[0].initial_velocity = {-5.0, 0.0};
-  Boundary support;
-  support.name = "support";
-  support.type = Boundary::Type::support;
-  support.direction = {1.0, 0.0};
-  support.where.kind = NodeSelector::Kind::segment;
-  support.where.segment = test::segment(0, 0, 0, 2e-3);
-  c.boundaries.push_back(support);
-  c.sim.end_time = 1e-3;
-  Simulation sim(c);
+  Simulation sim(strip_onto_a_support());
   ASSERT_TRUE(sim.model().supports.any());
   const auto held = [&] {
     const auto fixed = Kokkos::create_mirror_view_and_copy(HostSpace(), sim.model().nodes.fixed);
