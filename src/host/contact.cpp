@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "host/model.hpp"  // sparse_zero_view
+#include "host/sparse_zero_view.hpp"
 
 namespace fracta {
 

@@ -43,8 +43,8 @@ bool body_has_lattice(const Body& b) {
 //   de: measured 78.3 / 243.8 MB (23 MB + 1226 B per cell);
 //   adaptive (before it converts): 51.1 / 135.1 MB (23 MB + 622 B per cell).
 // Repeated runs of one case peak up to 6 % apart (fe 122-128 MB, adaptive 173-183 MB when it
-// held its slots' topology from the start): the
-// estimate is set to about 1.1 times the middle of that spread, 1.05-1.15 times each run.
+// held its slots' topology from the start): the estimate is set to about 1.1 times the middle
+// of that spread, 1.05-1.15 times each run.
 // tests/host/test_memory.cpp re-measures and requires 1 <= estimate / measured <= 1.2.
 constexpr double kBaseBytes = 22e6;  // Kokkos, HDF5, the executable: 22 MB measured
 // Node: x0, x, v, f, f_ext (10 doubles), mass, fixed on the device; the node-id grid and
@@ -79,7 +79,7 @@ constexpr double kLatticeElementBytes = 88;
 // Cohesive state (damage, onset and final separation) adds 24 B per slot.
 constexpr double kConvertibleCellBytes = 4 * (108 + 24) + 32 + 16 + 232 + 350;
 // The part of the terms above that a cell of an adaptive body takes only once it has converted
-// (sparse_zero_view, model.hpp; the lean snapshot, snapshot.cpp): its four slots' state
+// (sparse_zero_view.hpp; the lean snapshot, snapshot.cpp): its four slots' state
 // (material, state, kn, ks, area, fn, fs, plastic and cohesive state, rest length, used-list
 // entry: 112 B each) and their rows in the failure snapshot, the cell's lattice state and its
 // snapshot rows (60 + 60 B), its corners' rotation and spin: 1090 B itemised. Measured 1190 B:

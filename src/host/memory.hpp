@@ -22,7 +22,7 @@ BodyGrid body_grid(const Body& b);
 struct MemoryEstimate {
   // Peak resident memory of a run (B), see memory.cpp for what it counts: with the cells of the
   // adaptive bodies as FE (the memory a cell's lattice state takes grows as it converts:
-  // sparse_zero_view, model.hpp), and if every one of them converts.
+  // sparse_zero_view.hpp), and if every one of them converts.
   double bytes = 0;
   double bytes_all_converted = 0;
   double cells = 0;       // upper bound: every cell of every body's bounding-box grid

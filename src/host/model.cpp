@@ -427,7 +427,7 @@ bool draws_heterogeneity(const Case& c) {
 
 // Strength factors of the bond slots (kernels/heterogeneity.hpp: Weibull or uniform), when a
 // material asks for them, and a note of their range for check and run. Reads every slot's
-// topology (fill_all_slot_topology).
+// topology (fill_slot_topology of every cell).
 void draw_heterogeneity(Model& model) {
   const Case& c = model.scene;
   std::vector<StrengthDistribution> laws(c.materials.size());
@@ -840,7 +840,7 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   model.contacts->set_rigid_surface(model.rigid_surface);
 
   // Random strengths read every slot's ends and cells.
-  if (draws_heterogeneity(c)) fill_all_slot_topology(topo, nodes, bonds);
+  if (draws_heterogeneity(c)) fill_slot_topology({}, 0, topo, nodes, bonds, true);
   draw_heterogeneity(model);
 
   // de parts: converted at time 0.
@@ -856,18 +856,9 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
     Kokkos::deep_copy(Kokkos::subview(bonds.used, std::make_pair(0, bonds.used_count)),
                       to_device_1d<int>("initial_used_bonds", initial_used));
   std::vector<int>().swap(initial_used);
-  {
-    // The plan's chunks span the nodes of every slot, converted or not: cut from the set-up's
-    // ends, which the slots' own view holds only where cells converted.
-    const View<int* [2]> ends = to_device_rows("bond_plan_ends", slot_nodes);
-    build_scatter_plan(
-        bonds.scatter, nb,
-        KOKKOS_LAMBDA(const int b, int& lo, int& hi) {
-          lo = min_(ends(b, 0), ends(b, 1));
-          hi = max_(ends(b, 0), ends(b, 1));
-        },
-        bonds_listed(bonds) ? bonds.used : View<int*>(), bond_list_count(bonds), kBondChunkMax);
-  }
+  // The plan's chunks span the nodes of every slot, converted or not: cut from a temporary copy
+  // of the set-up's ends.
+  update_scatter_plan(bonds, to_device_rows("bond_plan_ends", slot_nodes));
   nodes.particle_list = sparse_zero_view<View<int*>>("fracta::node_particle_list", nn);
   nodes.bound_stale = sparse_zero_view<View<int*>>("fracta::node_bound_stale", nn);
   nodes.particle_count = build_particle_list(nodes);

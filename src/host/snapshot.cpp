@@ -46,9 +46,6 @@ Rows rows_to_keep(std::string_view name, const V& view, const StateViews& lists,
     case StateRows::contact_discs:
       // (No contact: the view is empty, above.)
       return {{lists.contact_discs, 1}, lists.contact_disc_count};
-    case StateRows::until_converted:
-      if (extent == element_count && lists.converted.extent(0) > 0) return {};  // restore
-      break;
     case StateRows::all:
       break;
   }
@@ -88,6 +85,7 @@ void reserve_rows(Buffer& buffer, const int rows, const int columns, const std::
 
 void StateSnapshot::save(const Model& m, StateViews live) {
   lists_ = ListCounts::of(m);
+  const SceneChanges scene = scene_changes(m);
   // The contact's discs are no state view: their list is kept here, as the rows to restore.
   contact_disc_count_ = live.contact_disc_count;
   reserve_rows(contact_discs_, contact_disc_count_, 1, "contact_discs_snapshot");
@@ -98,7 +96,7 @@ void StateSnapshot::save(const Model& m, StateViews live) {
   for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
     if (saved_.size() <= index) saved_.emplace_back();
     Saved& s = saved_[index++];
-    if (state_view_constant(name, scene_changes(m))) {
+    if (state_view_constant(name, scene)) {
       s = Saved();  // nothing to keep: restore leaves it alone
       return;
     }
@@ -113,27 +111,19 @@ void StateSnapshot::save(const Model& m, StateViews live) {
 void StateSnapshot::restore(Model& m, StateViews live) const {
   const ListCounts now = ListCounts::of(m);
   const int elements = m.elements.count;
-  // 1. The rows that joined a list since the save go back to their values before joining, 0
-  //    (build_lattice, sparse_zero_view). Every row listed now is reset; the saved ones are
-  //    written again below.
+  const SceneChanges scene = scene_changes(m);
+  // 1. The rows that joined a list since the save go back to their values before joining
+  //    (state_value_before_joining: 0 from build_lattice's sparse_zero_view, or the alive flag's
+  //    1). Every row listed now is reset; the saved ones are written again below.
   for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
     const StateRows kind = state_rows(name);
-    if (kind == StateRows::until_converted && view.extent(0) > 0 &&
-        !state_view_constant(name, scene_changes(m))) {
-      // The cells converted since the save: 1 again (the others are as saved).
-      const int from = lists_.converted, to = now.converted;
-      if (to > from && live.converted.extent(0) > 0)
-        reset_rows(view, {Kokkos::subview(live.converted, std::make_pair(from, to)), 1}, to - from,
-                   1);
-      return;
-    }
     if ((kind != StateRows::converted_cells && kind != StateRows::used_bonds &&
          kind != StateRows::particles && kind != StateRows::contact_discs) ||
-        state_view_constant(name, scene_changes(m)))
+        state_view_constant(name, scene))
       return;
     const Rows rows = rows_to_keep(name, view, live, now, elements);
     if (rows.map.list.extent(0) == 0) return;  // every row is saved
-    reset_rows(view, rows.map, rows.count);
+    reset_rows(view, rows.map, rows.count, state_value_before_joining(name));
   });
   // 2. The lists, then 3. every other view's rows through them (the contact's discs: as saved).
   StateViews saved_lists = live;
@@ -143,8 +133,7 @@ void StateSnapshot::restore(Model& m, StateViews live) const {
     size_t index = 0;
     for_each_state_view(live, live, [&](const char* name, const auto& view, const auto&) {
       const Saved& s = saved_[index++];
-      if ((state_rows(name) == StateRows::list_prefix) != lists ||
-          state_view_constant(name, scene_changes(m)))
+      if ((state_rows(name) == StateRows::list_prefix) != lists || state_view_constant(name, scene))
         return;
       const Rows rows = rows_to_keep(name, view, saved_lists, lists_, elements);
       scatter_rows(buffer_of(view, s), rows.map, s.rows, view);

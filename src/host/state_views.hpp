@@ -97,8 +97,6 @@ enum class StateRows {
   used_bonds,       // the used slots' rows; a slot's are its initial ones until it is activated
   particles,        // the particles' rows; a node's are 0 until it becomes a disc
   contact_discs,    // the contact discs' rows (StateViews::contact_discs); 0 until it is one
-  until_converted,  // 1 until the element converts, 0 after (elements.alive: rigid elements are 1
-                    // for good): the converted list holds it, so nothing is kept
 };
 
 // Whether `name` is one of `names` (the state views' names below).
@@ -156,18 +154,25 @@ inline StateRows state_rows(std::string_view name) {
     return StateRows::list_prefix;
   if (name.substr(0, 6) == "bonds.") return StateRows::used_bonds;
   // Not elements.cell_cracked: a broken bond marks the cells on both its sides, converted or not.
+  // elements.alive too: an element's is 1 until it converts (state_value_before_joining), 0
+  // after (rigid elements are 1 for good and never convert).
   if (is_one_of(name, {"elements.cell_strain_offset", "elements.cell_stress", "elements.cell_state",
-                       "elements.cell_volumetric_strain", "elements.cell_hoop"}))
+                       "elements.cell_volumetric_strain", "elements.cell_hoop", "elements.alive"}))
     return StateRows::converted_cells;
   if (is_one_of(name, {"nodes.particle", "nodes.rotation", "nodes.spin", "nodes.moment"}))
     return StateRows::particles;
   if (name == "contact_force_previous") return StateRows::contact_discs;
-  if (name == "elements.alive") return StateRows::until_converted;
   if (is_one_of(name, {"elements.stress", "elements.epeq", "elements.qp_volume",
                        "elements.bulk_viscosity", "elements.law_state", "elements.hourglass_disp",
                        "elements.hourglass_force", "elements.recoverable_work"}))
     return StateRows::active_elements;
   return StateRows::all;  // positions, velocities, forces, supports, radii, cracked flags
+}
+
+// The value of a row of the view named `name` before it joined its list (state_rows), to which a
+// restore returns the rows that joined since the save: 0, but 1 for elements.alive.
+inline int state_value_before_joining(std::string_view name) {
+  return name == "elements.alive" ? 1 : 0;
 }
 
 }  // namespace fracta

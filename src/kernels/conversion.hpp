@@ -191,25 +191,17 @@ struct SlotTopologyFill {
   }
 };
 
-// The slots of the cells listed in `cells`: run before a conversion reads them
+// The slots of cells[0, count) (every cell with `every`: a set-up that reads every slot, the
+// strength draws of heterogeneity.hpp): run before a conversion reads them
 // (prestress_converted_bonds).
 inline void fill_slot_topology(const View<int*>& cells, int count, const Topology& topo,
-                               const Nodes& nodes, const Bonds& bonds) {
+                               const Nodes& nodes, const Bonds& bonds, const bool every = false) {
+  if (every) count = static_cast<int>(topo.element_slots.extent(0));
   if (count == 0) return;
   const SlotTopologyFill fill{topo, nodes.x0, bonds};
   Kokkos::parallel_for(
       "fracta::fill_slot_topology", Kokkos::RangePolicy<ExecSpace>(0, 6 * count),
-      KOKKOS_LAMBDA(const int k) { fill(cells(k / 6), k % 6); });
-}
-
-// The slots of every cell (a set-up that reads them all: the strength draws of
-// heterogeneity.hpp).
-inline void fill_all_slot_topology(const Topology& topo, const Nodes& nodes, const Bonds& bonds) {
-  const int ne = static_cast<int>(topo.element_slots.extent(0));
-  const SlotTopologyFill fill{topo, nodes.x0, bonds};
-  Kokkos::parallel_for(
-      "fracta::fill_all_slot_topology", Kokkos::RangePolicy<ExecSpace>(0, 6 * ne),
-      KOKKOS_LAMBDA(const int k) { fill(k / 6, k % 6); });
+      KOKKOS_LAMBDA(const int k) { fill(every ? k / 6 : cells(k / 6), k % 6); });
 }
 
 // Activates the bond slots of the elements listed in `converted` and makes their nodes discs.
@@ -767,8 +759,8 @@ inline void collect_new_particles(const View<int*>& cells, int count, const Elem
 // list) into the increasing list [0, count); returns the new count. The candidates are
 // deduplicated and put in increasing order, then the two increasing lists are merged (every
 // entry finds its place by a binary search in the other). Up to kCapacity candidates, ranked
-// pairwise (O(k^2), small); more (a large conversion, the set-up's), sorted in place and
-// compacted (O(k log k)). Either way the list is the same: the increasing set of its entries,
+// pairwise (O(k^2), small); more (a large conversion), sorted in place and compacted
+// (O(k log k)). Either way the list is the same: the increasing set of its entries,
 // which no scan of every slot or node need touch (ws: buffers of >= k entries).
 inline int insert_sorted(const View<int*>& list, int count, const View<int*>& candidates, int k,
                          const ListWorkspace& ws) {

@@ -217,15 +217,17 @@ inline void update_scatter_plan(Elements& elements) {
 
 // The scatter plan of the bond slots (kernels/scatter.hpp), cut once from the slots and located
 // in the bond list after every change of it. Chunks of up to 8192 slots: about as many discs as
-// an element chunk spans nodes (scatter_chunk_size).
+// an element chunk spans nodes (scatter_chunk_size). The slots' ends are `slot_ends` when given
+// (build_lattice: every slot's, which Bonds::nodes holds only where cells converted), else
+// Bonds::nodes.
 inline constexpr int kBondChunkMax = 8192;
-inline void update_scatter_plan(Bonds& bonds) {
+inline void update_scatter_plan(Bonds& bonds, const View<int* [2]>& slot_ends = {}) {
   const auto list = bonds_listed(bonds) ? bonds.used : View<int*>();
   if (bonds.scatter.universe == bonds.count) {
     locate_scatter_chunks(bonds.scatter, list, bond_list_count(bonds));
     return;
   }
-  const auto ends = bonds.nodes;
+  const auto ends = slot_ends.extent(0) > 0 ? slot_ends : bonds.nodes;
   build_scatter_plan(
       bonds.scatter, bonds.count,
       KOKKOS_LAMBDA(const int b, int& lo, int& hi) {
