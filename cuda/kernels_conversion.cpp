@@ -1,5 +1,5 @@
 // CUDA check unit for src/kernels/conversion.hpp: element-to-disc conversion (compaction,
-// prestress, bond activation, re-basing) and the lattice helpers on the device.
+// slot topology, prestress, bond activation, re-basing) and the lattice helpers on the device.
 #include "kernels/conversion.hpp"
 
 namespace fracta::cuda_check {
@@ -29,14 +29,15 @@ double conversion_kernels(Elements& elements, const Nodes& nodes, const Bonds& b
   ListWorkspace ws(bonds.count > nodes.count ? bonds.count : nodes.count);
   const int m = compact_candidates(elements, adaptive, materials, true, ws.bond_candidates, 8,
                                    ws.keep, ws.sorted, new_cells, active_scratch, nodes.x);
+  fill_slot_topology(new_cells, n, topology, nodes, bonds);
+  fill_slot_topology(new_cells, 0, topology, nodes, bonds, true);
   collect_new_bonds(new_cells, n, element_bonds, bonds, ws.bond_candidates);
   collect_new_particles(new_cells, n, elements, nodes, ws.particle_candidates);
   const double energy = prestress_converted_bonds(new_cells, n, element_bonds, stiffness_c,
                                                   elements, nodes, bonds, topology, 1e-9);
   activate_element_bonds(new_cells, n, element_bonds, stiffness_c, elements, nodes, bonds);
   finish_converted_bonds(new_cells, n, element_bonds, nodes, bonds);
-  const int used = insert_sorted(bonds.used, bonds.used_count, ws.bond_candidates, 6 * n, ws) +
-                   build_used_bonds(bonds);
+  const int used = insert_sorted(bonds.used, bonds.used_count, ws.bond_candidates, 6 * n, ws);
   const int particles =
       insert_sorted(nodes.particle_list, nodes.particle_count, ws.particle_candidates, 4 * n, ws) +
       build_particle_list(nodes);
