@@ -60,18 +60,17 @@ struct Result {
 template <class State>
 void run(State& state, long discs, bool all_pairs, double skin, const char* label) {
   const Nodes nodes = packing(discs);
-  const Topology topo = test::make_topology(nodes.count);
   std::vector<int> ids(nodes.count);
   for (int i = 0; i < nodes.count; ++i) ids[i] = i;
   ContactSystem contact(ids, ContactParams{0.5, 0.1, 0.3}, skin);
   contact.set_all_pairs(all_pairs);
   contact.update(nodes);
-  contact.compute_forces(nodes, topo, kDt);
+  contact.compute_forces(nodes, kDt);
   const auto step = [&] {
     kick_drift(nodes, kDt);
     Kokkos::deep_copy(nodes.moment, 0.0);
     contact.update(nodes);
-    const ContactStepResult r = contact.compute_forces(nodes, topo, kDt);
+    const ContactStepResult r = contact.compute_forces(nodes, kDt);
     kick(nodes, kDt);
     return r;
   };
@@ -88,7 +87,7 @@ void run(State& state, long discs, bool all_pairs, double skin, const char* labe
     Kokkos::deep_copy(nodes.f, 0.0);
     Kokkos::deep_copy(nodes.moment, 0.0);
     contact.update(nodes);
-    contact.compute_forces(nodes, topo, kDt);
+    contact.compute_forces(nodes, kDt);
   };
   constexpr int kResetSteps = 100;
   for (int i = 0; i < 3; ++i) step();  // warm-up

@@ -162,7 +162,8 @@ struct CheckpointIO {
     for_each_state_view(live, live, [&](const char* name, const auto& v, const auto&) {
       read_view(state.get(), name, v);
     });
-    s.stable_dt_.invalidate();  // the bonds and radii were replaced
+    s.stable_dt_.invalidate();           // the bonds and radii were replaced
+    s.contact_force_prev_zero_ = false;  // the checkpoint's contact forces, as they are
     if (s.model_.bonds.strength_scale.extent(0) > 0) {
       const Handle strength = kRead.open_group(file, "strength");
       read_view(strength.get(), "bonds", s.model_.bonds.strength_scale);

@@ -56,6 +56,21 @@ void ContactSystem::resize_discs(size_t n) {
   built_ = false;
 }
 
+void ContactSystem::set_lattice(const Topology& topo, Bonds& bonds) {
+  topo_ = topo;
+  built_ = false;
+  if (bonds.count == 0) return;  // nothing can break
+  // A break that a search misses is a contact missed: on overflow (more breaks between two
+  // searches than the queue holds) the list is rebuilt instead.
+  constexpr int kBrokenCapacity = 4096;
+  broken_ = View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_broken"),
+                       kBrokenCapacity);
+  broken_count_ = View<int>("fracta::contact_broken_count");
+  bonds.broken_since_search = broken_;
+  bonds.broken_count = broken_count_;
+  slot_nodes_ = bonds.nodes;
+}
+
 void ContactSystem::track_surface(std::vector<int> surface_nodes, const Nodes& nodes) {
   std::sort(surface_nodes.begin(), surface_nodes.end());
   surface_nodes.erase(std::unique(surface_nodes.begin(), surface_nodes.end()), surface_nodes.end());
@@ -109,7 +124,6 @@ bool ContactSystem::refresh_discs(const Nodes& nodes) {
     // The per-pair arrays the merge reads are swapped out, not copied: it writes new ones (and
     // if the insertion falls back, the rebuild rewrites them).
     std::swap(pair_b_, w.old_pair_b);
-    if (joins_built_) std::swap(pair_joins_, w.old_joins);  // the old pairs keep their joins
   }
   resize_discs(static_cast<size_t>(count));
   merge_disjoint_sorted("fracta::contact_disc_merge", surface_only_, surface_count,
@@ -164,30 +178,28 @@ bool ContactSystem::insert_new_discs(const Nodes& nodes, int old_count) {
                                             w.cell_start,
                                             w.cell_items,
                                             skin_,
+                                            topo_,
                                             extra_offset,
                                             {},
                                             {}});
   const long extra_total = scan_rows(extra_offset, n);
   reserve(w.extra, extra_total, "fracta::contact_insert_extra");
   Kokkos::deep_copy(extra_cursor, 0);
-  Kokkos::parallel_for(
-      "fracta::contact_insert_fill", policy,
-      InsertedPairs<true>{discs_, old_index, w.new_discs, position, nodes.radius, grid,
-                          w.cell_start, w.cell_items, skin_, extra_cursor, extra_offset, w.extra});
+  Kokkos::parallel_for("fracta::contact_insert_fill", policy,
+                       InsertedPairs<true>{discs_, old_index, w.new_discs, position, nodes.radius,
+                                           grid, w.cell_start, w.cell_items, skin_, topo_,
+                                           extra_cursor, extra_offset, w.extra});
   // The merged rows: old row + inserted entries (sorted), scanned, then merged.
-  count_merged_rows(old_index, w.old_row_offset, extra_offset, w.extra, row_offset_);
+  count_merged_rows(old_index, w.old_row_offset, extra_offset, extra_cursor, w.extra, row_offset_);
   const long total = scan_rows(row_offset_, n);
   if (total > 2147483647L) throw std::runtime_error("contact: more than 2^31 candidate pairs");
   reserve_pairs(total);
-  if (joins_built_) reserve(pair_joins_, total, "fracta::contact_pair_joins");
-  Kokkos::parallel_for(
-      "fracta::contact_insert_merge", policy,
-      MergeInsertedRows{discs_, old_index, w.old_row_offset, w.old_pair_b, w.new_of_old,
-                        extra_offset, w.extra, row_offset_, pair_i_, pair_j_, pair_b_, w.old_joins,
-                        joins_built_ ? pair_joins_ : View<int* [3]>(), kJoinsPending});
+  Kokkos::parallel_for("fracta::contact_insert_merge", policy,
+                       MergeInsertedRows{discs_, old_index, w.old_row_offset, w.old_pair_b,
+                                         w.new_of_old, extra_offset, extra_cursor, w.extra,
+                                         row_offset_, pair_i_, pair_j_, pair_b_});
   Kokkos::deep_copy(x_build_, position);
   pair_count_ = total;
-  joins_pending_ = joins_built_;
   gather_built_ = false;
   ++insertions_;
   return true;
@@ -198,12 +210,79 @@ void ContactSystem::set_all_pairs(bool on) {
   all_pairs_ = on;
 }
 
+void ContactSystem::admit_unjoined(const View<const int*>& slots, const int count) {
+  if (!built_ || count == 0 || disc_count() == 0) return;
+  Insertion& w = insert_;
+  const int n = disc_count();
+  reserve(w.extra_offset, n + 1, "fracta::contact_insert_extra_offset");
+  reserve(w.extra_cursor, n, "fracta::contact_insert_extra_cursor");
+  const auto extra_offset = Kokkos::subview(w.extra_offset, std::make_pair(0, n + 1));
+  const auto extra_cursor = Kokkos::subview(w.extra_cursor, std::make_pair(0, n));
+  const auto policy = Kokkos::RangePolicy<ExecSpace>(0, count);
+  Kokkos::deep_copy(extra_offset, 0);
+  Kokkos::parallel_for(
+      "fracta::contact_admit_count", policy,
+      UnjoinedPairs<false>{
+          slots, slot_nodes_, discs_, row_offset_, pair_b_, topo_, extra_offset, {}, {}});
+  const long extra_total = scan_rows(extra_offset, n);
+  if (extra_total == 0) return;
+  reserve(w.extra, extra_total, "fracta::contact_insert_extra");
+  Kokkos::deep_copy(extra_cursor, 0);
+  Kokkos::parallel_for("fracta::contact_admit_fill", policy,
+                       UnjoinedPairs<true>{slots, slot_nodes_, discs_, row_offset_, pair_b_, topo_,
+                                           extra_cursor, extra_offset, w.extra});
+  // Every disc is old: its row now, and the admitted entries, merged.
+  reserve(w.old_row_offset, n + 1, "fracta::contact_insert_old_rows");
+  const auto rows = std::make_pair(0, n + 1);
+  Kokkos::deep_copy(Kokkos::subview(w.old_row_offset, rows), row_offset_);
+  std::swap(pair_b_, w.old_pair_b);  // read by the merge, which writes a new one
+  count_merged_rows({}, w.old_row_offset, extra_offset, extra_cursor, w.extra, row_offset_);
+  const long total = scan_rows(row_offset_, n);
+  if (total > 2147483647L) throw std::runtime_error("contact: more than 2^31 candidate pairs");
+  reserve_pairs(total);
+  Kokkos::parallel_for("fracta::contact_admit_merge", Kokkos::RangePolicy<ExecSpace>(0, n),
+                       MergeInsertedRows{discs_,
+                                         {},
+                                         w.old_row_offset,
+                                         w.old_pair_b,
+                                         {},
+                                         extra_offset,
+                                         extra_cursor,
+                                         w.extra,
+                                         row_offset_,
+                                         pair_i_,
+                                         pair_j_,
+                                         pair_b_});
+  admissions_ += total - pair_count_;
+  pair_count_ = total;
+  gather_built_ = false;
+}
+
+void ContactSystem::admit_converted(const View<const int*>& cells, const int count,
+                                    const View<const int* [6]>& element_bonds) {
+  if (!built_ || count == 0 || broken_.extent(0) == 0) return;
+  Insertion& w = insert_;
+  reserve(w.slots, 6 * static_cast<size_t>(count), "fracta::contact_admit_slots");
+  const auto slots = w.slots;
+  Kokkos::parallel_for(
+      "fracta::contact_admit_cell_slots", Kokkos::RangePolicy<ExecSpace>(0, 6 * count),
+      KOKKOS_LAMBDA(const int k) { slots(k) = element_bonds(cells(k / 6), k % 6); });
+  admit_unjoined(slots, 6 * count);
+}
+
 bool ContactSystem::update(const Nodes& nodes) {
   if (built_) {
     const double half = 0.5 * skin_;
-    const DiscMotion motion = disc_motion(nodes, discs_, x_build_);
+    const DiscMotion motion = disc_motion(nodes, discs_, x_build_, broken_count_);
     max_speed_ = std::sqrt(motion.speed_sq);
-    if (motion.displacement_sq <= half * half) return false;
+    const int broken = static_cast<int>(motion.broken);
+    if (motion.displacement_sq <= half * half && broken <= static_cast<int>(broken_.extent(0))) {
+      if (broken > 0) {
+        admit_unjoined(broken_, broken);
+        Kokkos::deep_copy(broken_count_, 0);
+      }
+      return false;
+    }
     rebuild(nodes);
     return true;
   }
@@ -219,6 +298,8 @@ double ContactSystem::motion_bound() const {
 
 void ContactSystem::rebuild(const Nodes& nodes) {
   Kokkos::Profiling::pushRegion("fracta::contact_search");
+  // The build sees every break so far (the bonds' states).
+  if (broken_count_.data()) Kokkos::deep_copy(broken_count_, 0);
   const int n = disc_count();
   CellGrid grid;
   if (!all_pairs_ && n > 0) {
@@ -232,35 +313,29 @@ void ContactSystem::rebuild(const Nodes& nodes) {
     reserve(cell_cursor_, cells, "fracta::contact_cell_cursor");
     bin_discs(nodes, discs_, grid, cell_start_, cell_cursor_, cell_discs_);
   }
-  count_candidates(nodes, discs_, skin_, all_pairs_, grid, cell_start_, cell_discs_, row_offset_);
+  count_candidates(nodes, discs_, skin_, topo_, all_pairs_, grid, cell_start_, cell_discs_,
+                   row_offset_);
   const long total = scan_rows(row_offset_, n);
   if (total > 2147483647L) throw std::runtime_error("contact: more than 2^31 candidate pairs");
   reserve_pairs(total);
-  fill_candidates(nodes, discs_, skin_, all_pairs_, grid, cell_start_, cell_discs_, row_offset_,
-                  pair_i_, pair_j_, pair_b_);
+  fill_candidates(nodes, discs_, skin_, topo_, all_pairs_, grid, cell_start_, cell_discs_,
+                  row_offset_, pair_i_, pair_j_, pair_b_);
   record_positions(nodes, discs_, x_build_);
   pair_count_ = total;
   built_ = true;
-  joins_built_ = gather_built_ = false;
+  gather_built_ = false;
   ++rebuilds_;
   Kokkos::Profiling::popRegion();
 }
 
-ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, const Topology& topo, double dt,
+ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, double dt,
                                                 const ResultSlot<ContactSums>& into) {
   if (!built_) throw std::logic_error("ContactSystem::compute_forces before update");
-  Kokkos::Profiling::pushRegion("fracta::contact_forces");
-  // What joins each pair, once per list: the force kernel then reads only states.
-  if (!joins_built_ || joins_topology_ != topo.node_element.data()) {
-    reserve(pair_joins_, pair_count_, "fracta::contact_pair_joins");
-    pair_topology(topo, pair_i_, pair_j_, pair_count_, pair_joins_);
-    joins_built_ = true;
-    joins_topology_ = topo.node_element.data();
-    joins_pending_ = gather_built_ = false;
-  } else if (joins_pending_) {  // an insertion: the inserted pairs alone
-    pending_pair_topology(topo, pair_i_, pair_j_, pair_count_, pair_joins_);
-    joins_pending_ = false;
+  if (pair_count_ == 0) {  // an intact lattice: no pair, no force
+    if (into.data()) put(into, ContactSums());
+    return {};
   }
+  Kokkos::Profiling::pushRegion("fracta::contact_forces");
   // The gather's columns, once per list.
   if (!gather_built_) {
     // Capacity kept across lists: an insertion changes the disc count at every conversion.
@@ -272,8 +347,8 @@ ContactStepResult ContactSystem::compute_forces(const Nodes& nodes, const Topolo
     build_contact_gather(discs_, row_offset_, pair_b_, pair_count_, gather_);
     gather_built_ = true;
   }
-  const ContactSums s = contact_forces(nodes, topo, pair_i_, pair_j_, pair_count_, law_, dt,
-                                       pair_joins_, gather_, into, rigid_surface_);
+  const ContactSums s =
+      contact_forces(nodes, pair_i_, pair_j_, pair_count_, law_, dt, gather_, into, rigid_surface_);
   Kokkos::Profiling::popRegion();
   return contact_step_result(s);
 }
@@ -321,8 +396,17 @@ void ContactSystem::restore_list_state(const ListState& s) {
   index_candidates(discs_, pair_i_, pair_j_, count, row_offset_, pair_b_);  // for the gather
   pair_count_ = count;
   built_ = s.built;
-  joins_built_ = gather_built_ = false;
+  gather_built_ = false;
   rebuilds_ = s.rebuilds;
+  if (broken_count_.data()) Kokkos::deep_copy(broken_count_, 0);
+  // A list that holds a joined pair breaks the force kernel's premise: rebuilt.
+  const Topology topo = topo_;
+  const auto pi = pair_i_, pj = pair_j_;
+  int joined = 0;
+  Kokkos::parallel_reduce(
+      "fracta::contact_restored_joined", Kokkos::RangePolicy<ExecSpace>(0, count),
+      KOKKOS_LAMBDA(const int p, int& acc) { acc += topo.joined(pi(p), pj(p)) ? 1 : 0; }, joined);
+  if (joined > 0) built_ = false;
 }
 
 }  // namespace fracta

@@ -4,9 +4,12 @@
 // Each step: update(nodes) rebuilds the candidate list when some disc moved more than skin/2
 // since the last build (or on the first call, after set_disc_nodes or set_all_pairs);
 // compute_forces() then adds the contact forces and moments to nodes.f / nodes.moment (which
-// the integrator zeroes) and reports energies. Which pairs are joined (bond, element) is read
-// from the Topology at every force evaluation, so a bond breaking between two builds turns the
-// pair into a contact at once.
+// the integrator zeroes) and reports energies. Joined pairs (an active bond or element between
+// the discs, set_lattice) are left out of the list, as bonded atoms are out of LAMMPS' pair
+// lists: an intact lattice lists nothing. A bond that breaks between two builds is noted by the
+// bond kernel (Bonds::note_broken) and its pair admitted at the next update, before the forces;
+// a conversion's slots are admitted right after it (admit_converted): the pair contacts at
+// once, and the list is the one a build would give (neighbor_search.hpp, "Joined pairs").
 //
 // Which nodes are discs. Either a fixed list (the constructor, set_disc_nodes: tests,
 // benchmarks) or, after track_surface(), the discs that can touch now (docs/physics.md 1.3: "every
@@ -59,8 +62,13 @@ class ContactSystem {
   // order, duplicates ignored. skin: Verlet skin (m), >= 0 (0 = rebuild whenever a disc moves).
   ContactSystem(std::vector<int> disc_nodes, const ContactParams& params, double skin);
 
-  // Rebuilds the candidate list if needed; returns true if it did. Also measures the fastest
-  // disc's speed (motion_bound).
+  // The lattice whose joined pairs the list leaves out (default: none, free discs): its
+  // topology, and its bonds, which then note their breaks for this system (Bonds::note_broken;
+  // the views are set in `bonds`). Forces a rebuild.
+  void set_lattice(const Topology& topo, Bonds& bonds);
+  // Rebuilds the candidate list if needed and returns true if it did; else admits the pairs of
+  // the bonds broken since the last update. Also measures the fastest disc's speed
+  // (motion_bound).
   bool update(const Nodes& nodes);
   // The step (s) in which the fastest disc of the last update moves half the skin: the solver's
   // step stays below it, so a disc never moves more than skin/2 in one step, two discs close by
@@ -70,8 +78,15 @@ class ContactSystem {
   double motion_bound() const;
   // into: a slot for the kernel's sums (contact_step_result of them; the launch does not wait,
   // and the result returned is empty), or none.
-  ContactStepResult compute_forces(const Nodes& nodes, const Topology& topo, double dt,
+  ContactStepResult compute_forces(const Nodes& nodes, double dt,
                                    const ResultSlot<ContactSums>& into = {});
+  // After cells [0, count) of `cells` converted (and refresh_discs took their discs): admits
+  // the pairs of their slots that no joint holds any more (a slot broken while its other cell
+  // was alive). Nothing to do unless the list is built.
+  void admit_converted(const View<const int*>& cells, int count,
+                       const View<const int* [6]>& element_bonds);
+  // Unjoined pairs admitted into a built list since construction (breaks and conversions).
+  long admission_count() const { return admissions_; }
 
   long candidate_count() const { return pair_count_; }
   long rebuild_count() const { return rebuilds_; }
@@ -93,8 +108,8 @@ class ContactSystem {
   // Without tracking: returns false.
   bool refresh_discs(const Nodes& nodes);
   // Inserting new discs instead of rebuilding (default on). Either way the candidate list holds
-  // every pair that can touch before the next rebuild, in the build's order, so the forces are
-  // the same to the bit; off: the benchmark baseline and the test's reference.
+  // every free pair that can touch before the next rebuild, in the build's order, so the forces
+  // are the same to the bit; off: the benchmark baseline and the test's reference.
   void set_insertion(bool on) { insertion_ = on; }
   long insertion_count() const { return insertions_; }
   bool tracks_surface() const { return tracking_; }
@@ -122,7 +137,8 @@ class ContactSystem {
     long rebuilds = 0;
   };
   ListState list_state() const;
-  // Throws std::invalid_argument if the sizes do not match this system's discs.
+  // Throws std::invalid_argument if the sizes do not match this system's discs. A list holding
+  // a joined pair (a checkpoint of a version that listed them) is rebuilt at the next update.
   void restore_list_state(const ListState& s);
 
  private:
@@ -133,6 +149,9 @@ class ContactSystem {
   // ones: adds the new discs' pairs to the list. Returns false (rebuild instead) if the old
   // discs are not all in the new list.
   bool insert_new_discs(const Nodes& nodes, int old_count);
+  // The free pairs of slots [0, count) of `slots` (-1: none) not listed yet go into the built
+  // list, in its order (neighbor_search.hpp, "Admitting unjoined pairs").
+  void admit_unjoined(const View<const int*>& slots, int count);
   // Sizes the per-disc views for n discs, reusing their buffers while they hold n; forces a
   // rebuild.
   void resize_discs(size_t n);
@@ -152,12 +171,13 @@ class ContactSystem {
   View<int*> row_offset_;
   View<int*> pair_i_, pair_j_;  // capacity >= pair_count_
   View<int*> pair_b_;           // disc index of each pair_j_ (fill_candidates, index_candidates)
-  View<int* [3]> pair_joins_;   // pair_topology of the list, when joins_built_
   ContactGather gather_;        // rows and columns of the list, when gather_built_
-  bool joins_built_ = false;
-  bool joins_pending_ = false;  // inserted pairs marked kJoinsPending in pair_joins_
   bool gather_built_ = false;
-  const void* joins_topology_ = nullptr;  // the Topology (its node -> element list) they came from
+  Topology topo_;              // set_lattice; empty: nothing is joined
+  View<int*> broken_;          // Bonds::broken_since_search (set_lattice), or empty
+  View<int> broken_count_;     // Bonds::broken_count
+  View<int* [2]> slot_nodes_;  // Bonds::nodes: the ends of a slot
+  long admissions_ = 0;
   long pair_count_ = 0;
   long rebuilds_ = 0;
   bool insertion_ = true;
@@ -166,7 +186,7 @@ class ContactSystem {
   // Insertion work space: the list before the refresh, and the inserted pairs (capacity reused).
   struct Insertion {
     View<int*> old_discs, old_row_offset, old_pair_b;
-    View<int* [3]> old_joins;
+    View<int*> slots;  // admit_converted: the converted cells' slots
     View<double*[2]> old_x_build, position;
     View<int*> node_slot;  // per node, zero between insertions
     View<int*> old_index, new_of_old, new_discs;

@@ -40,7 +40,7 @@ bool body_has_lattice(const Body& b) {
 // model is built). Calibrated on the peak RSS of `fracta run` (g++ 12 Release, OpenMP, 2
 // threads; a 30 x 60 mm plate, 45 000 and 180 000 cells, a few steps, two output frames):
 //   fe: measured 43.3 / 109.6 MB (21 MB + 491 B per cell);
-//   de: measured 78.3 / 243.8 MB (23 MB + 1226 B per cell);
+//   de: measured 70.5 / 213.8 MB (23 MB + 1060 B per cell);
 //   adaptive (before it converts): 51.1 / 135.1 MB (23 MB + 622 B per cell).
 // Repeated runs of one case peak up to 6 % apart (fe 122-128 MB, adaptive 173-183 MB when it
 // held its slots' topology from the start): the estimate is set to about 1.1 times the middle
@@ -119,6 +119,13 @@ constexpr double kRateNodeBytes = 2 * 16;
 // insertion (ContactSystem::Insertion: the old list's copy, positions, maps, 64 B per disc and
 // 16 B per pair).
 constexpr double kDiscBytes = 56 + 8 + 64 + 2 * (40 + 16);
+// What a disc of a lattice holds only once its bonds break: the contact list leaves joined
+// pairs out (neighbor_search.hpp), so an intact lattice lists no pair and never writes its
+// discs' contact forces (the force now and the last one, 2 x 24 B; sparse views). Counted in
+// the all-converted figure (a lattice broken everywhere: its free pairs, 2 x 56 B of
+// kDiscBytes, and forces), not in the start of a body that starts as a lattice (de). Measured
+// on the de plate above: 1226 B per cell before, 1060 B after (70.5 / 213.8 MB).
+constexpr double kFreeDiscBytes = 2 * (40 + 16) + 2 * 24;
 
 // Axisymmetric lattices (rings): each convertible cell's hoop state (Elements::cell_hoop, 32 B)
 // and volumetric strain (8 B), both in the failure snapshot's rows once it converts, and each of
@@ -186,6 +193,8 @@ MemoryEstimate estimate_memory(const Case& c) {
     // body's, and a de region's, is there from the start: counted as converted).
     if (c.bodies[i].method == BodyMethod::adaptive)
       bytes -= cells * (kConvertedCellBytes + kAdaptiveStartSavingBytes);
+    else if (body_has_lattice(c.bodies[i]))
+      bytes -= nodes * kFreeDiscBytes;  // an intact lattice: no free pair yet
     e.bytes += bytes;
     if (bytes > largest) {
       largest = bytes;

@@ -863,6 +863,7 @@ void build_lattice(Model& model, const std::vector<int>& converted) {
   nodes.bound_stale = sparse_zero_view<View<int*>>("fracta::node_bound_stale", nn);
   nodes.particle_count = build_particle_list(nodes);
   model.lists = ListWorkspace(std::max(nb, nn));
+  model.contacts->set_lattice(topo, bonds);  // joined pairs stay out of the contact list
   model.contacts->track_surface(surface_nodes, nodes);
 }
 

@@ -400,11 +400,20 @@ ContactPhaseSums Simulation::contact_forces(double dt, const bool into_slot) {
   Model& m = model_;
   if (!contact_possible(m)) return {0.0, ledger_.energy.contact_elastic, ledger_.counts.touching};
   ProfilingRegion region("fracta::contact_forces");
+  if (m.contacts->candidate_count() == 0 && contact_force_prev_zero_) {
+    // No pair (an intact lattice lists none) and no force the last time: no force, no work,
+    // and no sweep over the discs.
+    if (into_slot) {
+      put(slot(&StepSums::contact, pending_sums_.contact), ContactSums());
+      put(slot(&StepSums::contact_work, pending_sums_.contact), 0.0);
+    }
+    return {0.0, 0.0, 0};
+  }
   // The contact's own forces are the change it makes to the accumulators (fx, fy, moment).
   const auto discs = m.contacts->discs();
   store_forces_before(m.nodes, discs, contact_force_);
   const ContactStepResult r = m.contacts->compute_forces(
-      m.nodes, m.topology, dt,
+      m.nodes, dt,
       into_slot ? slot(&StepSums::contact, pending_sums_.contact) : ResultSlot<ContactSums>());
   // Work of the contact forces over the step by the trapezoidal rule with v(n+1/2), the rule
   // under which central differences balance energy (as the external work).
@@ -412,6 +421,7 @@ ContactPhaseSums Simulation::contact_forces(double dt, const bool into_slot) {
       m.nodes, discs, contact_force_prev_, contact_force_, dt,
       into_slot ? slot(&StepSums::contact_work, pending_sums_.contact) : ResultSlot<double>());
   std::swap(contact_force_, contact_force_prev_);
+  contact_force_prev_zero_ = m.contacts->candidate_count() == 0;
   return {work, r.elastic_energy, r.touching};
 }
 
@@ -460,7 +470,14 @@ void Simulation::convert() {
   if (!m.has_adaptive || (ledger_.clock.steps + 1) % m.scene.sim.conversion_interval != 0) return;
   // The new particles become contact discs after the conversion phase: inserting them into the
   // candidate list (or rebuilding it at the next update) is the contact search's phase.
-  if (convert_cells() && model_.contacts) model_.contacts->refresh_discs(model_.nodes);
+  const int before = m.converted_count;
+  if (!convert_cells() || !model_.contacts) return;
+  model_.contacts->refresh_discs(model_.nodes);
+  // Pairs the converted cells held and no joint holds now (a slot broken while the cell was
+  // alive) contact from now on.
+  model_.contacts->admit_converted(
+      Kokkos::subview(m.converted, std::make_pair(before, m.converted_count)),
+      m.converted_count - before, m.element_bonds);
 }
 
 bool Simulation::convert_cells() {
@@ -830,6 +847,7 @@ void Simulation::restore_snapshot() {
   kick_pending_ = false;    // the snapshot holds a full step
   stable_dt_.invalidate();  // the bonds and radii are replaced
   snapshot_.state.restore(model_, state_views());
+  contact_force_prev_zero_ = false;  // the snapshot's contact forces: taken as they are
   ledger_ = snapshot_.ledger;
   model_.rigid = snapshot_.rigid;
   if (model_.contacts) {

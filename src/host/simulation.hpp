@@ -127,6 +127,10 @@ class Simulation {
   FrameData frame_;  // the last frame(), its arrays kept for the next
   FrameBuffers frame_buffers_;
   View<double*[3]> contact_force_, contact_force_prev_;
+  // contact_force_prev_ is zero: allocated so, or the last evaluation had no pair
+  // (contact_forces then skips the sweeps while the list stays empty). False after a restore or
+  // a restart, until an evaluation shows it again.
+  bool contact_force_prev_zero_ = true;
   // The step's sums on the device, the host's copy, and which of them a phase left there since
   // the last copy (settle_step_sums).
   View<StepSums> step_sums_{"fracta::step_sums"};

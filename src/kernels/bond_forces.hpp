@@ -791,6 +791,7 @@ struct BondForces {
       energy -= ContactLaw::elastic_energy(kc, overlap);
     }
     bonds.state(b) = kBondBroken;
+    bonds.note_broken(b);
     if (nodes.bound_stale.extent(0) > 0) nodes.bound_stale(i) = nodes.bound_stale(j) = 1;
     mark_cells_cracked(b);
     bonds.fn(b) = 0.0;

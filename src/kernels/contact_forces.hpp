@@ -18,6 +18,9 @@
 // the viscous branch brings vt to zero in about one step instead of flipping its sign every step
 // (chatter); v_reg_min (1e-6 m/s by default) only matters when the normal force is tiny.
 //
+// Joined pairs (an active bond or element between the discs) never contact: the candidate
+// list leaves them out (neighbor_search.hpp, "Joined pairs"), so every listed pair is free.
+//
 // Special cases: a disc whose fixed bits are both set has infinite mass for m_eff and m_t
 // (a wall); pairs of two such discs are skipped. A disc that is not a particle (an FE
 // boundary node) has no rotational DOF: its spin counts as zero and it receives no moment.
@@ -47,60 +50,6 @@ namespace fracta {
 // v[2] number of touching pairs (overlap > 0 and not joined).
 using ContactSums = Sums<3>;
 
-// What joins each candidate pair, found once per candidate list (pair_topology): the bond
-// slot between the two discs and the elements they share, -1 where there is none. Whether the
-// pair is joined then takes their states alone: the same answer as Topology::joined, whose
-// bond and element lists never change (only the states do). kJoinedUncached (in the slot
-// entry): more slots or elements than the entry holds; such a pair asks Topology::joined.
-constexpr int kJoinedUncached = -2;
-
-struct PairTopology {
-  Topology topo;
-  View<const int*> pair_i, pair_j;
-  View<int* [3]> joins;  // slot, element, element
-  KOKKOS_INLINE_FUNCTION void operator()(const int p) const {
-    const int i = pair_i(p), j = pair_j(p);
-    int slot = -1, slots = 0, el[2] = {-1, -1}, elements = 0;
-    for (int k = topo.node_element_offset(i); k < topo.node_element_offset(i + 1); ++k) {
-      const int e = topo.node_element(k);
-      const int position = topo.slot_position(e, i, j);
-      if (position < 0) continue;  // j is not a corner of e
-      if (elements < 2) el[elements] = e;
-      ++elements;
-      const int b = topo.element_slots(e, position);
-      if (b >= 0 && b != slot) {  // an edge slot is two cells' slot: count it once
-        slot = b;
-        ++slots;
-      }
-    }
-    joins(p, 0) = slots > 1 || elements > 2 ? kJoinedUncached : slot;
-    joins(p, 1) = el[0];
-    joins(p, 2) = el[1];
-  }
-};
-
-inline void pair_topology(const Topology& topo, const View<const int*>& pair_i,
-                          const View<const int*>& pair_j, long count, const View<int* [3]>& joins) {
-  Kokkos::parallel_for("fracta::contact_pair_topology", Kokkos::RangePolicy<ExecSpace>(0, count),
-                       PairTopology{topo, pair_i, pair_j, joins});
-}
-
-// The slot entry of a pair inserted into a list whose other pairs keep their joins
-// (MergeInsertedRows): looked up by pending_pair_topology before the next force evaluation.
-constexpr int kJoinsPending = -3;
-
-// pair_topology of the pairs marked kJoinsPending alone.
-inline void pending_pair_topology(const Topology& topo, const View<const int*>& pair_i,
-                                  const View<const int*>& pair_j, long count,
-                                  const View<int* [3]>& joins) {
-  const PairTopology lookup{topo, pair_i, pair_j, joins};
-  Kokkos::parallel_for(
-      "fracta::contact_pending_topology", Kokkos::RangePolicy<ExecSpace>(0, count),
-      KOKKOS_LAMBDA(const int p) {
-        if (joins(p, 0) == kJoinsPending) lookup(p);
-      });
-}
-
 // The surfaces of rigid bodies of revolution (docs/physics.md 1.3, "Rigid bodies"): for each node
 // of [begin, end), its neighbours along its body's surface, previous and next in
 // counter-clockwise order (the body on the left), -1 where there is none (an interior node, a
@@ -115,14 +64,12 @@ struct RigidSurface {
 };
 
 struct ContactForceKernel {
-  View<const int*> pair_i, pair_j;
-  View<const int* [3]> joins;  // pair_topology; empty: ask Topology::joined
+  View<const int*> pair_i, pair_j;  // free pairs only: the list leaves joined ones out
   View<const double*[2]> x, v;
   View<const double*> mass, radius, inertia, spin, stiffness;
   View<const int*> fixed, particle;
   View<double* [2]> f;
   View<double*> moment;
-  Topology topo;
   ContactLaw law;
   double dt;
   View<double* [4]> pair_force;  // ContactGather::pair_force, or empty: add atomically
@@ -148,7 +95,6 @@ struct ContactForceKernel {
     const double inv_mi = (fixed(i) & wall) == wall ? 0.0 : 1.0 / mass(i);
     const double inv_mj = (fixed(j) & wall) == wall ? 0.0 : 1.0 / mass(j);
     if (inv_mi + inv_mj <= 0.0) return;
-    if (joins.extent(0) == 0 ? topo.joined(i, j) : joined(p, i, j)) return;
 
     const double d = sqrt_(d2);
     const double delta = ri + rj - d;
@@ -277,13 +223,6 @@ struct ContactForceKernel {
       if (particle(d) != 0 && inertia(d) > 0.0) Kokkos::atomic_add(&moment(d), md);
     }
   }
-
-  KOKKOS_INLINE_FUNCTION bool joined(const int p, const int i, const int j) const {
-    const int b = joins(p, 0), e0 = joins(p, 1), e1 = joins(p, 2);
-    if (b == kJoinedUncached) return topo.joined(i, j);
-    return (b >= 0 && topo.bond_state(b) == kBondActive) || (e0 >= 0 && topo.element_alive(e0)) ||
-           (e1 >= 0 && topo.element_alive(e1));
-  }
 };
 
 // Forces added in a fixed order (no atomics), so a run is the same run every time on any
@@ -365,26 +304,31 @@ inline void gather_contact_forces(const Nodes& nodes, const ContactGather& g) {
       });
 }
 
-// Adds the contact forces of the candidate pairs [0, count) to nodes.f and nodes.moment.
-// joins: pair_topology of these pairs, or empty. gather: build_contact_gather of these pairs
-// (a fixed summation order), or not built: atomic adds (any pair list). With a slot given, the
-// sums go there (ResultSlot: the launch does not wait) and the value returned is empty.
-inline ContactSums contact_forces(const Nodes& nodes, const Topology& topo,
-                                  const View<const int*>& pair_i, const View<const int*>& pair_j,
-                                  long count, const ContactLaw& law, double dt,
-                                  const View<const int* [3]>& joins = {},
-                                  const ContactGather& gather = {},
+// Adds the contact forces of the candidate pairs [0, count) (free pairs: no joined one) to
+// nodes.f and nodes.moment. gather: build_contact_gather of these pairs (a fixed summation
+// order), or not built: atomic adds (any pair list). With a slot given, the sums go there
+// (ResultSlot: the launch does not wait) and the value returned is empty.
+inline ContactSums contact_forces(const Nodes& nodes, const View<const int*>& pair_i,
+                                  const View<const int*>& pair_j, long count, const ContactLaw& law,
+                                  double dt, const ContactGather& gather = {},
                                   const ResultSlot<ContactSums>& into = {},
                                   const RigidSurface& surface = {}) {
-  ContactForceKernel kernel{pair_i,       pair_j,
-                            joins,        nodes.x,
-                            nodes.v,      nodes.mass,
-                            nodes.radius, nodes.inertia,
-                            nodes.spin,   nodes.contact_stiffness,
-                            nodes.fixed,  nodes.particle,
-                            nodes.f,      nodes.moment,
-                            topo,         law,
-                            dt,           gather.built() ? gather.pair_force : View<double* [4]>(),
+  ContactForceKernel kernel{pair_i,
+                            pair_j,
+                            nodes.x,
+                            nodes.v,
+                            nodes.mass,
+                            nodes.radius,
+                            nodes.inertia,
+                            nodes.spin,
+                            nodes.contact_stiffness,
+                            nodes.fixed,
+                            nodes.particle,
+                            nodes.f,
+                            nodes.moment,
+                            law,
+                            dt,
+                            gather.built() ? gather.pair_force : View<double* [4]>(),
                             surface};
   ContactSums sums;
   const auto policy = Kokkos::RangePolicy<ExecSpace>(0, count);

@@ -16,8 +16,15 @@
 //  - Verlet criterion: the list stays valid while no disc moved more than skin / 2 since the
 //    build (two discs then approached by at most skin, so every pair now closer than r_i + r_j
 //    was closer than r_i + r_j + skin at the build).
-//  - Joined pairs (bond or element) are NOT filtered here: the force kernel checks them every
-//    step, so a bond that breaks between two builds becomes a contact at once.
+//  - Joined pairs (an active bond or an active element between them: Topology::joined) are
+//    left out, as LAMMPS leaves bonded atoms out of its pair lists: in an intact lattice every
+//    neighbour is joined, and the list holds only the pairs that can touch. Two discs can only
+//    come apart, never join again (a slot turns active only when a cell converts, and the cell
+//    joined the pair while it was alive; a broken slot stays broken; only a restore returns
+//    to an earlier state, and it rebuilds). What unjoins a listed-out pair between two builds
+//    is a bond breaking (Bonds::note_broken) or a cell converting: those pairs are merged into
+//    the list at once ("Admitting unjoined pairs" below), so the force kernel needs no joined
+//    check, and the list is the one a build would give at that moment, in the same order.
 //
 // Memory is allocated by the caller (src/host/contact.cpp); these functions only fill views.
 #pragma once
@@ -204,6 +211,7 @@ struct BinnedPairs {
   CellGrid grid;
   View<const int*> cell_start, cell_discs;
   double skin;
+  Topology topo;
   View<int*> row_offset;
   View<int*> pair_i, pair_b;
 
@@ -221,7 +229,7 @@ struct BinnedPairs {
           const int j = discs(b);
           const double dx = x(j, 0) - xi, dy = x(j, 1) - yi;
           const double reach = ri + radius(j) + skin;
-          if (dx * dx + dy * dy < reach * reach) {
+          if (dx * dx + dy * dy < reach * reach && !topo.joined(i, j)) {
             if (Fill) {
               pair_i(out) = i;
               pair_b(out) = b;
@@ -242,6 +250,7 @@ struct AllPairs {
   View<const double* [2]> x;
   View<const double*> radius;
   double skin;
+  Topology topo;
   int n_discs;
   View<int*> row_offset;
   View<int*> pair_i, pair_j, pair_b;
@@ -254,7 +263,7 @@ struct AllPairs {
       const int j = discs(b);
       const double dx = x(j, 0) - xi, dy = x(j, 1) - yi;
       const double reach = ri + radius(j) + skin;
-      if (dx * dx + dy * dy < reach * reach) {
+      if (dx * dx + dy * dy < reach * reach && !topo.joined(i, j)) {
         if (Fill) {
           pair_i(out) = i;
           pair_j(out) = j;
@@ -268,17 +277,19 @@ struct AllPairs {
 };
 
 // Counts candidates per disc into row_offset(0..n_discs-1). all_pairs selects the O(N^2) oracle.
+// topo: who is joined (empty: free discs, none).
 inline void count_candidates(const Nodes& nodes, const View<const int*>& discs, double skin,
-                             bool all_pairs, const CellGrid& grid, const View<int*>& cell_start,
-                             const View<int*>& cell_discs, const View<int*>& row_offset) {
+                             const Topology& topo, bool all_pairs, const CellGrid& grid,
+                             const View<int*>& cell_start, const View<int*>& cell_discs,
+                             const View<int*>& row_offset) {
   const int n_discs = static_cast<int>(discs.extent(0));
   const auto policy = Kokkos::RangePolicy<ExecSpace>(0, n_discs);
   if (all_pairs) {
-    AllPairs<false> f{discs, nodes.x, nodes.radius, skin, n_discs, row_offset, {}, {}, {}};
+    AllPairs<false> f{discs, nodes.x, nodes.radius, skin, topo, n_discs, row_offset, {}, {}, {}};
     Kokkos::parallel_for("fracta::contact_all_pairs_count", policy, f);
   } else {
-    BinnedPairs<false> f{discs,      nodes.x, nodes.radius, grid, cell_start,
-                         cell_discs, skin,    row_offset,   {},   {}};
+    BinnedPairs<false> f{discs, nodes.x, nodes.radius, grid, cell_start, cell_discs,
+                         skin,  topo,    row_offset,   {},   {}};
     Kokkos::parallel_for("fracta::contact_binned_count", policy, f);
   }
 }
@@ -286,20 +297,20 @@ inline void count_candidates(const Nodes& nodes, const View<const int*>& discs, 
 // Writes the candidates at the scanned row offsets, every row sorted by j (its disc indices
 // pair_b sorted: the discs are in increasing node id).
 inline void fill_candidates(const Nodes& nodes, const View<const int*>& discs, double skin,
-                            bool all_pairs, const CellGrid& grid, const View<int*>& cell_start,
-                            const View<int*>& cell_discs, const View<int*>& row_offset,
-                            const View<int*>& pair_i, const View<int*>& pair_j,
-                            const View<int*>& pair_b) {
+                            const Topology& topo, bool all_pairs, const CellGrid& grid,
+                            const View<int*>& cell_start, const View<int*>& cell_discs,
+                            const View<int*>& row_offset, const View<int*>& pair_i,
+                            const View<int*>& pair_j, const View<int*>& pair_b) {
   const int n_discs = static_cast<int>(discs.extent(0));
   const auto policy = Kokkos::RangePolicy<ExecSpace>(0, n_discs);
   if (all_pairs) {
-    AllPairs<true> f{discs,      nodes.x, nodes.radius, skin,  n_discs,
-                     row_offset, pair_i,  pair_j,       pair_b};
+    AllPairs<true> f{discs,   nodes.x,    nodes.radius, skin,   topo,
+                     n_discs, row_offset, pair_i,       pair_j, pair_b};
     Kokkos::parallel_for("fracta::contact_all_pairs_fill", policy, f);
     return;  // rows are already in increasing j
   }
-  BinnedPairs<true> f{discs,      nodes.x, nodes.radius, grid,   cell_start,
-                      cell_discs, skin,    row_offset,   pair_i, pair_b};
+  BinnedPairs<true> f{discs, nodes.x, nodes.radius, grid,   cell_start, cell_discs,
+                      skin,  topo,    row_offset,   pair_i, pair_b};
   Kokkos::parallel_for("fracta::contact_binned_fill", policy, f);
   Kokkos::parallel_for(
       "fracta::contact_row_sort", policy, KOKKOS_LAMBDA(const int a) {
@@ -364,16 +375,19 @@ inline void record_positions(const Nodes& nodes, const View<const int*>& discs,
 // hiding) and the largest squared speed (m^2/s^2, of nodes.v: the drift velocity of the step).
 struct DiscMotion {
   double displacement_sq = 0.0, speed_sq = 0.0;
-  // Joined elementwise by the maximum: one pass reduces both (disc_motion runs it through
+  double broken = 0.0;  // Bonds::broken_count, read in the same pass (no wait of its own)
+  // Joined elementwise by the maximum: one pass reduces all (disc_motion runs it through
   // Kokkos::Sum, whose join is +=; the identity is 0, below every value reduced).
   KOKKOS_INLINE_FUNCTION DiscMotion& operator+=(const DiscMotion& o) {
     displacement_sq = max_(displacement_sq, o.displacement_sq);
     speed_sq = max_(speed_sq, o.speed_sq);
+    broken = max_(broken, o.broken);
     return *this;
   }
   KOKKOS_INLINE_FUNCTION void operator+=(const volatile DiscMotion& o) volatile {
     displacement_sq = max_(displacement_sq, o.displacement_sq);
     speed_sq = max_(speed_sq, o.speed_sq);
+    broken = max_(broken, o.broken);
   }
 };
 
@@ -389,12 +403,13 @@ struct reduction_identity<fracta::DiscMotion> {
 namespace fracta {
 
 inline DiscMotion disc_motion(const Nodes& nodes, const View<const int*>& discs,
-                              const View<const double* [2]>& x_build) {
+                              const View<const double* [2]>& x_build,
+                              const View<const int>& broken_count = {}) {
   DiscMotion m;
   const int count = static_cast<int>(discs.extent(0));
   if (count == 0) return m;
   const auto x = nodes.x, v = nodes.v;
-  const bool speeds = v.extent(0) > 0;
+  const bool speeds = v.extent(0) > 0, broken = broken_count.data() != nullptr;
   Kokkos::parallel_reduce(
       "fracta::contact_displacement", Kokkos::RangePolicy<ExecSpace>(0, count),
       KOKKOS_LAMBDA(const int a, DiscMotion& acc) {
@@ -407,6 +422,7 @@ inline DiscMotion disc_motion(const Nodes& nodes, const View<const int*>& discs,
           here.speed_sq = v(n, 0) * v(n, 0) + v(n, 1) * v(n, 1);
           if (!isfinite_(here.speed_sq)) here.speed_sq = 1e300;
         }
+        if (broken && a == 0) here.broken = broken_count();
         acc += here;
       },
       Kokkos::Sum<DiscMotion>(m));
@@ -504,6 +520,7 @@ struct InsertedPairs {
   CellGrid grid;
   View<const int*> cell_start, cell_items;
   double skin;
+  Topology topo;
   View<int*> extra_count;
   View<const int*> extra_offset;
   View<int*> extra;
@@ -526,7 +543,7 @@ struct InsertedPairs {
           if (a == c || (a < c && c_new)) continue;
           const double dx = p(a, 0) - xc, dy = p(a, 1) - yc;
           const double reach = rc + radius(discs(a)) + skin;
-          if (!(dx * dx + dy * dy < reach * reach)) continue;
+          if (!(dx * dx + dy * dy < reach * reach) || topo.joined(discs(c), discs(a))) continue;
           const int row = a < c ? a : c, partner = a < c ? c : a;
           if (Fill)
             extra(extra_offset(row) + Kokkos::atomic_fetch_add(&extra_count(row), 1)) = partner;
@@ -537,48 +554,52 @@ struct InsertedPairs {
   }
 };
 
-// Sorts each disc's inserted entries (extra[extra_offset(a), extra_offset(a + 1)), filled in
-// any order) and writes its merged row length into rows(a): old row + inserted entries.
+// Sorts each disc's inserted entries (extra from extra_offset(a), extra_count(a) of them, filled
+// in any order), drops repeats (extra_count(a) becomes the count left) and writes its merged
+// row length into rows(a): old row + inserted entries. old_index empty: every disc is old, at
+// its own index (admit_unjoined_pairs).
 inline void count_merged_rows(const View<const int*>& old_index,
                               const View<const int*>& old_row_offset,
-                              const View<const int*>& extra_offset, const View<int*>& extra,
-                              const View<int*>& rows) {
+                              const View<const int*>& extra_offset, const View<int*>& extra_count,
+                              const View<int*>& extra, const View<int*>& rows) {
+  const bool identity = old_index.extent(0) == 0;
   Kokkos::parallel_for(
-      "fracta::contact_insert_rows", Kokkos::RangePolicy<ExecSpace>(0, old_index.extent(0)),
+      "fracta::contact_insert_rows", Kokkos::RangePolicy<ExecSpace>(0, rows.extent(0) - 1),
       KOKKOS_LAMBDA(const int a) {
-        sort_segment(extra, extra_offset(a), extra_offset(a + 1));
-        const int o = old_index(a);
-        rows(a) = (o >= 0 ? old_row_offset(o + 1) - old_row_offset(o) : 0) + extra_offset(a + 1) -
-                  extra_offset(a);
+        const int begin = extra_offset(a);
+        int end = begin + extra_count(a);
+        sort_segment(extra, begin, end);
+        int kept = begin;
+        for (int q = begin; q < end; ++q)
+          if (q == begin || extra(q) != extra(kept - 1)) extra(kept++) = extra(q);
+        extra_count(a) = kept - begin;
+        const int o = identity ? a : old_index(a);
+        rows(a) = (o >= 0 ? old_row_offset(o + 1) - old_row_offset(o) : 0) + kept - begin;
       });
 }
 
 // Row a of the merged list: its old row (old_index(a) >= 0; the partners' disc indices mapped
-// by new_of_old) and its inserted entries, both increasing, merged at row_offset(a). No pair is
-// in both (an inserted pair has a new disc). With joins (not empty): an old pair keeps what
-// joins it (old_joins: the bond and element lists never change), an inserted one gets
-// `pending` to be looked up (contact_forces.hpp, pending_pair_topology).
+// by new_of_old) and its inserted entries (extra_count(a) from extra_offset(a)), both
+// increasing, merged at row_offset(a). No pair is in both (an inserted pair has a new disc, an
+// admitted one was not listed). old_index and new_of_old empty: every disc is old, at its own
+// index.
 struct MergeInsertedRows {
   View<const int*> discs, old_index, old_row_offset, old_pair_b, new_of_old;
-  View<const int*> extra_offset, extra, row_offset;
+  View<const int*> extra_offset, extra_count, extra, row_offset;
   View<int*> pair_i, pair_j, pair_b;
-  View<const int* [3]> old_joins;
-  View<int* [3]> joins;
-  int pending;
 
   KOKKOS_INLINE_FUNCTION void operator()(const int a) const {
-    const int o = old_index(a);
+    const bool identity = old_index.extent(0) == 0;
+    const int o = identity ? a : old_index(a);
     int k = o >= 0 ? old_row_offset(o) : 0;
     const int k_end = o >= 0 ? old_row_offset(o + 1) : 0;
     int q = extra_offset(a);
-    const int q_end = extra_offset(a + 1), i = discs(a);
+    const int q_end = q + extra_count(a), i = discs(a);
     for (int out = row_offset(a); k < k_end || q < q_end; ++out) {
-      const int from_old = k < k_end ? new_of_old(old_pair_b(k)) : 2147483647;
+      const int from_old =
+          k < k_end ? (identity ? old_pair_b(k) : new_of_old(old_pair_b(k))) : 2147483647;
       const int from_new = q < q_end ? extra(q) : 2147483647;
       const int b = from_old < from_new ? from_old : from_new;
-      if (joins.extent(0) > 0)
-        for (int c = 0; c < 3; ++c)
-          joins(out, c) = from_old < from_new ? old_joins(k, c) : (c == 0 ? pending : -1);
       if (from_old < from_new)
         ++k;
       else
@@ -587,6 +608,46 @@ struct MergeInsertedRows {
       pair_j(out) = discs(b);
       pair_b(out) = b;
     }
+  }
+};
+
+// ---- Admitting unjoined pairs (ContactSystem::admit_unjoined) ------------------------------
+// The slots whose two discs may have come apart since the list was made: the bonds broken since
+// the last search (Bonds::note_broken) and the slots of cells that just converted (a slot that
+// was broken while the other cell was alive). The pair of each slot that is now free (not
+// joined: Topology::joined), whose ends are both discs and that is not listed yet goes into its
+// row (the smaller disc index), whatever the distance (a pair out of reach adds nothing until
+// the next build drops it); count_merged_rows and MergeInsertedRows with every disc old then
+// merge the rows. The touching pairs are then those a build would list, in the same order.
+// Fill = false counts per row into extra_count; Fill = true writes the partner's disc index at
+// extra_offset(row) + a slot taken from extra_count (zeroed).
+template <bool Fill>
+struct UnjoinedPairs {
+  View<const int*> slots;           // slot ids, -1: none
+  View<const int* [2]> slot_nodes;  // Bonds::nodes
+  View<const int*> discs, row_offset, pair_b;
+  Topology topo;
+  View<int*> extra_count;
+  View<const int*> extra_offset;
+  View<int*> extra;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int k) const {
+    const int b = slots(k);
+    if (b < 0) return;
+    const int n0 = slot_nodes(b, 0), n1 = slot_nodes(b, 1);
+    const int i = min_(n0, n1), j = max_(n0, n1);
+    if (i == j || topo.joined(i, j)) return;
+    const int n = static_cast<int>(discs.extent(0));
+    const int row = count_below(discs, n, i), partner = count_below(discs, n, j);
+    if (row >= n || discs(row) != i || partner >= n || discs(partner) != j) return;
+    // Listed already (free at the last build, or admitted since): the row is sorted.
+    const int end = row_offset(row + 1);
+    const int at = first_not_below(pair_b, row_offset(row), end, partner);
+    if (at < end && pair_b(at) == partner) return;
+    if (Fill)
+      extra(extra_offset(row) + Kokkos::atomic_fetch_add(&extra_count(row), 1)) = partner;
+    else
+      Kokkos::atomic_increment(&extra_count(row));
   }
 };
 

@@ -110,11 +110,10 @@ inline Nodes node_motion_views(const Nodes& nodes) {
   return k;
 }
 
-// Number of entries of the non-decreasing list [0, count) that are < value (the first index
-// whose entry is >= value).
+// The first index of the non-decreasing list [begin, end) whose entry is >= value (end if none).
 template <class List>
-KOKKOS_INLINE_FUNCTION int count_below(const List& list, int count, int value) {
-  int lo = 0, hi = count;
+KOKKOS_INLINE_FUNCTION int first_not_below(const List& list, int begin, int end, int value) {
+  int lo = begin, hi = end;
   while (lo < hi) {
     const int mid = (lo + hi) / 2;
     if (list(mid) < value)
@@ -123,6 +122,13 @@ KOKKOS_INLINE_FUNCTION int count_below(const List& list, int count, int value) {
       hi = mid;
   }
   return lo;
+}
+
+// Number of entries of the non-decreasing list [0, count) that are < value (the first index
+// whose entry is >= value).
+template <class List>
+KOKKOS_INLINE_FUNCTION int count_below(const List& list, int count, int value) {
+  return first_not_below(list, 0, count, value);
 }
 
 // Sorts list[begin, end) increasing, in place (insertion sort: the segments are short bins and
@@ -243,6 +249,17 @@ struct Bonds {
   // them do not read them (their pages are then never touched).
   bool may_yield = true;
   bool may_soften = true;
+  // The slots broken since the contact search last looked (ContactSystem): the contact list
+  // leaves joined pairs out, and a break is what unjoins two discs between two searches, so the
+  // search admits these pairs (neighbor_search.hpp, "Joined pairs"). broken_count may exceed
+  // the capacity (the list is then rebuilt). Empty views: nobody listens.
+  View<int*> broken_since_search;
+  View<int> broken_count;
+  KOKKOS_INLINE_FUNCTION void note_broken(const int b) const {
+    if (broken_since_search.extent(0) == 0) return;
+    const int k = Kokkos::atomic_fetch_add(&broken_count(), 1);
+    if (k < static_cast<int>(broken_since_search.extent(0))) broken_since_search(k) = b;
+  }
 };
 
 // The bond list the kernels sweep: Bonds::used when it is a proper subset of the slots, else
@@ -309,7 +326,10 @@ struct Topology {
     return count;
   }
 
+  // Whether nodes i and j are joined: an active bond or an active element between them (false
+  // for an empty topology: free discs).
   KOKKOS_INLINE_FUNCTION bool joined(int i, int j) const {
+    if (node_element_offset.extent(0) == 0) return false;
     for (int k = node_element_offset(i); k < node_element_offset(i + 1); ++k) {
       const int e = node_element(k);
       const int position = slot_position(e, i, j);

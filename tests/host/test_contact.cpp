@@ -98,22 +98,37 @@ long touching_pairs_off_the_list(const Model& m) {
   return missing;
 }
 
+// Listed pairs that are joined (the list leaves them out: neighbor_search.hpp, "Joined pairs").
+long joined_pairs_on_the_list(const Model& m) {
+  const ContactSystem& cs = *m.contacts;
+  const auto pair_i = cs.pair_i(), pair_j = cs.pair_j();
+  const Topology topo = m.topology;
+  long joined = 0;
+  Kokkos::parallel_reduce(
+      "joined_on_list", Kokkos::RangePolicy<ExecSpace>(0, cs.candidate_count()),
+      KOKKOS_LAMBDA(const int p, long& acc) { acc += topo.joined(pair_i(p), pair_j(p)) ? 1 : 0; },
+      joined);
+  return joined;
+}
+
 // A conversion's new discs are inserted into the candidate list (ContactSystem::refresh_discs)
-// instead of rebuilding it. Through the impact, with insertion on: every touching pair of discs
-// is listed at every step; and the run is the same to the bit as with a rebuild at every
-// conversion (every state view), since the gather sums the touching pairs in the same order.
-// On the device path the node sums add atomically and the impact carries the round-off on: the
-// two runs then part by up to 6e-7 of a view's largest value (measured, node forces, 40 us), so
-// 1e-5 there; a pair missing from the list changes a contact force by its whole size.
+// instead of rebuilding it, and the pairs that bonds breaking or cells converting set free are
+// admitted into it. Through the impact, with insertion on: every touching free pair of discs
+// is listed at every step, and no joined pair is; and the run is the same to the bit as with a
+// rebuild at every conversion (every state view), since the gather sums the touching pairs in the
+// same order. On the device path the node sums add atomically and the impact carries the round-off
+// on: the two runs then part by up to 6e-7 of a view's largest value (measured, node forces, 40
+// us), so 1e-5 there; a pair missing from the list changes a contact force by its whole size.
 TEST(Contact, InsertedDiscsMissNoTouchingPairAndGiveTheRebuildRunBitwise) {
   const Case c = penetration_case(40e-6);
   Simulation inserting(c), rebuilding(c);
   rebuilding.model().contacts->set_insertion(false);
-  long missing = 0, steps = 0;
+  long missing = 0, joined = 0, steps = 0;
   while (inserting.time() < c.sim.end_time * (1 - 1e-12) && !inserting.failed()) {
     inserting.step(true);
     rebuilding.step(true);
     missing += touching_pairs_off_the_list(inserting.model());
+    joined += joined_pairs_on_the_list(inserting.model());
     ++steps;
   }
   ASSERT_FALSE(inserting.failed()) << inserting.failure();
@@ -121,7 +136,10 @@ TEST(Contact, InsertedDiscsMissNoTouchingPairAndGiveTheRebuildRunBitwise) {
   RecordProperty("insertions", std::to_string(ci.insertion_count()));
   RecordProperty("rebuilds_inserting", std::to_string(ci.rebuild_count()));
   RecordProperty("rebuilds_rebuilding", std::to_string(cr.rebuild_count()));
+  RecordProperty("admissions", std::to_string(ci.admission_count()));
   EXPECT_EQ(missing, 0) << "touching pair-steps missing from the candidate list";
+  EXPECT_EQ(joined, 0) << "joined pair-steps on the candidate list";
+  EXPECT_GT(ci.admission_count(), 20);  // not vacuous: bonds broke and their pairs came in
   EXPECT_GT(ci.insertion_count(), 20);  // not vacuous: the list took many insertions
   EXPECT_EQ(cr.insertion_count(), 0);
   EXPECT_LT(ci.rebuild_count() + ci.insertion_count() / 2, cr.rebuild_count());

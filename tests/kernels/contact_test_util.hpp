@@ -86,9 +86,12 @@ inline Nodes make_nodes(const HostDiscs& h) {
 // A topology over `n` nodes with the given bonds (all active) and elements (all alive, each a
 // list of 4 node ids). Empty lists: nothing is joined. A mesh's slots are its cells' edges and
 // diagonals (Topology); a free bond {i, j} here is the first edge of a cell of its own that is
-// not alive and whose other corners are no node (-1), after the given elements.
+// not alive and whose other corners are no node (-1), after the given elements. element_slots:
+// the slots of the first elements (Topology::slot_position order: edges, then diagonals; -1:
+// none), indices into `bonds`; default: none.
 inline Topology make_topology(int n, const std::vector<std::array<int, 2>>& bonds = {},
-                              const std::vector<std::array<int, 4>>& elements = {}) {
+                              const std::vector<std::array<int, 4>>& elements = {},
+                              const std::vector<std::array<int, 6>>& element_slots = {}) {
   Topology t;
   const int nb = static_cast<int>(bonds.size()), ne = static_cast<int>(elements.size());
   const int cells = ne + nb;
@@ -113,6 +116,8 @@ inline Topology make_topology(int n, const std::vector<std::array<int, 2>>& bond
       if (node >= 0) node_elements[node].push_back(e);
     }
     if (e >= ne) slots(e, 0) = e - ne;
+    if (e < static_cast<int>(element_slots.size()))
+      for (int a = 0; a < 6; ++a) slots(e, a) = element_slots[e][a];
   }
   int ke = 0;
   for (int i = 0; i < n; ++i) {
@@ -127,6 +132,28 @@ inline Topology make_topology(int n, const std::vector<std::array<int, 2>>& bond
   Kokkos::deep_copy(t.element_nodes, corners);
   Kokkos::deep_copy(t.element_slots, slots);
   return t;
+}
+
+// The bonds of make_topology(n, bonds, ...): their ends and the topology's states, for
+// ContactSystem::set_lattice (which then has the breaks noted in them).
+inline Bonds make_bonds(const Topology& t, const std::vector<std::array<int, 2>>& bonds) {
+  Bonds b;
+  b.count = static_cast<int>(bonds.size());
+  b.state = t.bond_state;
+  b.nodes = View<int* [2]>("fracta::test_bond_nodes", bonds.size());
+  auto ends = Kokkos::create_mirror_view(b.nodes);
+  for (size_t k = 0; k < bonds.size(); ++k) ends(k, 0) = bonds[k][0], ends(k, 1) = bonds[k][1];
+  Kokkos::deep_copy(b.nodes, ends);
+  return b;
+}
+
+// Bond `slot` breaks as the bond kernel breaks it: its state, and the note to the contact.
+inline void break_bond(const Bonds& bonds, const int slot) {
+  Kokkos::parallel_for(
+      "fracta::test_break_bond", Kokkos::RangePolicy<ExecSpace>(0, 1), KOKKOS_LAMBDA(const int) {
+        bonds.state(slot) = kBondBroken;
+        bonds.note_broken(slot);
+      });
 }
 
 }  // namespace fracta::test

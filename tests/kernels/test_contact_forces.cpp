@@ -94,7 +94,6 @@ std::vector<int> iota_nodes(int n) {
 // A small explicit run: velocity Verlet around the contact system.
 struct VerletRun {
   Nodes nodes;
-  Topology topo;
   ContactSystem contact;
   double dt, g;
   double dissipated = 0;  // cumulative (J)
@@ -102,18 +101,14 @@ struct VerletRun {
 
   VerletRun(const test::HostDiscs& h, const ContactParams& p, double skin, double dt_,
             double g_ = 0)
-      : nodes(test::make_nodes(h)),
-        topo(test::make_topology(h.size())),
-        contact(iota_nodes(h.size()), p, skin),
-        dt(dt_),
-        g(g_) {
+      : nodes(test::make_nodes(h)), contact(iota_nodes(h.size()), p, skin), dt(dt_), g(g_) {
     forces();
   }
   void forces() {
     Kokkos::deep_copy(nodes.f, 0.0);
     Kokkos::deep_copy(nodes.moment, 0.0);
     contact.update(nodes);
-    last = contact.compute_forces(nodes, topo, dt);
+    last = contact.compute_forces(nodes, dt);
     // The force at t = 0 acts over the first half kick only: half a step of its dissipation
     // (the trapezoidal end point).
     dissipated += 0.5 * last.dissipated;
@@ -122,7 +117,7 @@ struct VerletRun {
     half_kick(nodes, dt, g);
     drift(nodes, dt);
     contact.update(nodes);
-    last = contact.compute_forces(nodes, topo, dt);
+    last = contact.compute_forces(nodes, dt);
     dissipated += last.dissipated;
     half_kick(nodes, dt, g);
   }
@@ -180,7 +175,6 @@ TEST(ContactForces, GatherEqualsTheAtomicAddsAndRepeatsBitwise) {
     h.particle.back() = u(rng) < 0.33 ? 0 : 1;
   }
   const Nodes nodes = test::make_nodes(h);
-  const Topology topo = test::make_topology(n);
   ContactSystem contact(iota_nodes(n), ContactParams{}, 0.2 * r0);
   contact.update(nodes);
   ASSERT_GT(contact.candidate_count(), 2 * n);
@@ -198,11 +192,11 @@ TEST(ContactForces, GatherEqualsTheAtomicAddsAndRepeatsBitwise) {
     Kokkos::deep_copy(nodes.moment, m0);
     ContactSums sums;
     if (gather) {
-      const ContactStepResult r = contact.compute_forces(nodes, topo, dt);
+      const ContactStepResult r = contact.compute_forces(nodes, dt);
       sums.v[2] = static_cast<double>(r.touching);
     } else {
-      sums = contact_forces(nodes, topo, contact.pair_i(), contact.pair_j(),
-                            contact.candidate_count(), contact.law(), dt);
+      sums = contact_forces(nodes, contact.pair_i(), contact.pair_j(), contact.candidate_count(),
+                            contact.law(), dt);
     }
     auto f = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.f);
     auto m = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.moment);
@@ -239,11 +233,10 @@ TEST(ContactForces, SingleContactValuesAndSigns) {
   h.add(x1, 0.0, r, m, k, -0.1, 0.2, 0.0);
   h.add(0.0, 5 * r, r, m, k);  // a candidate that does not touch: no force
   const Nodes nodes = test::make_nodes(h);
-  const Topology topo = test::make_topology(3);
   ContactSystem cs(iota_nodes(3), ContactParams{0.5, zeta, mu}, 4 * r);
   cs.update(nodes);
   ASSERT_EQ(cs.candidate_count(), 3);
-  const ContactStepResult res = cs.compute_forces(nodes, topo, dt);
+  const ContactStepResult res = cs.compute_forces(nodes, dt);
 
   const double a = r - delta / 2;                    // lever arm of both discs
   const double c = 2 * zeta * std::sqrt(k * m / 2);  // series k of equal springs is k
@@ -297,9 +290,12 @@ SurfaceTouch touch_surface(const double x, const double y) {
   Kokkos::deep_copy(surface.link, link);
   ContactSystem cs(iota_nodes(4), ContactParams{0.5, 0.0, 0.0}, kEdge);
   cs.set_rigid_surface(surface);
+  const std::vector<std::array<int, 2>> chain_bonds = {{0, 1}, {1, 2}, {0, 2}};
+  const Topology topo = test::make_topology(4, chain_bonds);
+  Bonds bonds = test::make_bonds(topo, chain_bonds);
+  cs.set_lattice(topo, bonds);
   cs.update(nodes);
-  const ContactStepResult res =
-      cs.compute_forces(nodes, test::make_topology(4, {{0, 1}, {1, 2}, {0, 2}}), 1e-8);
+  const ContactStepResult res = cs.compute_forces(nodes, 1e-8);
   auto f = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.f);
   return {f(3, 0),
           f(3, 1),
@@ -351,7 +347,7 @@ TEST(ContactForces, NoAdhesion) {
   const Nodes nodes = test::make_nodes(h);
   ContactSystem cs(iota_nodes(2), ContactParams{0.5, 0.5, 0.3}, 1e-4);
   cs.update(nodes);
-  const ContactStepResult res = cs.compute_forces(nodes, test::make_topology(2), 1e-7);
+  const ContactStepResult res = cs.compute_forces(nodes, 1e-7);
   auto f = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.f);
   EXPECT_EQ(f(0, 0), 0.0);
   EXPECT_EQ(f(1, 0), 0.0);
@@ -361,9 +357,10 @@ TEST(ContactForces, NoAdhesion) {
   EXPECT_NEAR(res.dissipated, k * delta * 1.0 * 1e-7, 1e-12 * k * delta * 1e-7);
 }
 
-// Pairs joined by an active bond or an alive element never contact; the exclusion is read at
-// every force evaluation, so a bond that breaks becomes a contact without a list rebuild.
-TEST(ContactForces, JoinedPairsAreExcludedUntilTheyBreak) {
+// Pairs joined by an active bond or an alive element are left out of the candidate list; a
+// bond that breaks (noted as the bond kernel notes it) is admitted at the next update, without
+// a rebuild, and contacts at once.
+TEST(ContactForces, JoinedPairsAreLeftOutUntilTheyBreak) {
   const double r = 1e-3, delta = 1e-6, m = 0.01, k = 2e6;
   test::HostDiscs h;
   h.add(0.0, 0.0, r, m, k);
@@ -375,26 +372,69 @@ TEST(ContactForces, JoinedPairsAreExcludedUntilTheyBreak) {
   for (int with_element : {0, 1}) {
     const Topology topo = with_element ? test::make_topology(4, {{0, 1}}, {{{0, 1, 3, 2}}})
                                        : test::make_topology(4, {{0, 1}});
+    Bonds bonds = test::make_bonds(topo, {{0, 1}});
     ContactSystem cs(iota_nodes(4), ContactParams{0.5, 0.1, 0.3}, 1e-4);
+    cs.set_lattice(topo, bonds);
     cs.update(nodes);
+    // Within reach: 0-1, 0-2, 1-3, 2-3 (the diagonals are 2.8 r apart); 0-1 is joined.
+    EXPECT_EQ(cs.candidate_count(), with_element ? 0 : 3);
     Kokkos::deep_copy(nodes.f, 0.0);
-    ContactStepResult res = cs.compute_forces(nodes, topo, 1e-7);
+    ContactStepResult res = cs.compute_forces(nodes, 1e-7);
     auto f = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.f);
-    // Touching pairs 0-1, 0-2, 1-3, 2-3 (diagonals are 2.8 r apart).
     EXPECT_EQ(res.touching, with_element ? 0 : 3);
-    EXPECT_EQ(f(0, 0), 0.0);  // 0-1 excluded by the bond, 0-2 acts along y only
+    EXPECT_EQ(f(0, 0), 0.0);  // 0-1 left out for the bond, 0-2 acts along y only
     if (with_element) {
       EXPECT_EQ(f(0, 1), 0.0);
-      Kokkos::deep_copy(topo.element_alive, 0);  // the element converts
     }
-    Kokkos::deep_copy(Kokkos::subview(topo.bond_state, 0), static_cast<int>(kBondBroken));
-    EXPECT_FALSE(cs.update(nodes));  // nothing moved: same list
+    test::break_bond(bonds, 0);
+    EXPECT_FALSE(cs.update(nodes));  // nothing moved: no rebuild
+    // The element still joins the pair; without it, the pair is admitted.
+    EXPECT_EQ(cs.candidate_count(), with_element ? 0 : 4);
+    EXPECT_EQ(cs.admission_count(), with_element ? 0 : 1);
     Kokkos::deep_copy(nodes.f, 0.0);
-    res = cs.compute_forces(nodes, topo, 1e-7);
+    res = cs.compute_forces(nodes, 1e-7);
     f = Kokkos::create_mirror_view_and_copy(HostSpace(), nodes.f);
-    EXPECT_EQ(res.touching, 4);
-    EXPECT_NEAR(f(0, 0), -k * delta, 1e-12 * k * delta);
+    EXPECT_EQ(res.touching, with_element ? 0 : 4);
+    if (!with_element) {
+      EXPECT_NEAR(f(0, 0), -k * delta, 1e-12 * k * delta);
+    }
   }
+}
+
+// Two cells side by side, A = {0, 1, 4, 3} converted, B = {1, 2, 5, 4} alive, their shared edge
+// 1-4 broken (a crack from A's side): B still joins 1 and 4. When B converts, nothing joins them
+// any more and admit_converted lists the pair; the list then equals a fresh build's.
+TEST(ContactForces, AConversionAdmitsThePairsOfItsBrokenSlots) {
+  const double r = 1e-3, gap = 2 * r - 1e-6, m = 0.01, k = 2e6;
+  test::HostDiscs h;
+  for (int row = 0; row < 2; ++row)
+    for (int col = 0; col < 3; ++col) h.add(col * gap, row * gap, r, m, k);
+  const Nodes nodes = test::make_nodes(h);
+  // Slots: A's edges 0-1, 1-4, 4-3, 3-0, diagonals 0-4, 1-3; B's edges 1-2, 2-5, 5-4 (and 4-1,
+  // A's second), diagonals 1-5, 2-4.
+  const std::vector<std::array<int, 2>> ends = {{0, 1}, {1, 4}, {4, 3}, {3, 0}, {0, 4}, {1, 3},
+                                                {1, 2}, {2, 5}, {5, 4}, {1, 5}, {2, 4}};
+  const Topology topo = test::make_topology(6, ends, {{{0, 1, 4, 3}}, {{1, 2, 5, 4}}},
+                                            {{{0, 1, 2, 3, 4, 5}}, {{6, 7, 8, 1, 9, 10}}});
+  Bonds bonds = test::make_bonds(topo, ends);
+  Kokkos::deep_copy(Kokkos::subview(topo.element_alive, 0), 0);  // A converted
+  Kokkos::deep_copy(Kokkos::subview(topo.bond_state, 1), static_cast<int>(kBondBroken));
+  ContactSystem cs(iota_nodes(6), ContactParams{}, 1e-4);
+  cs.set_lattice(topo, bonds);
+  cs.update(nodes);
+  EXPECT_EQ(cs.candidate_count(), 0);  // every pair within reach is joined
+  Kokkos::deep_copy(Kokkos::subview(topo.element_alive, 1), 0);  // B converts
+  const View<int*> converted("converted", 1);
+  Kokkos::deep_copy(converted, 1);
+  cs.admit_converted(converted, 1, topo.element_slots);
+  EXPECT_EQ(cs.candidate_pairs_host(), (std::vector<std::array<int, 2>>{{1, 4}}));
+  cs.admit_converted(converted, 1, topo.element_slots);  // twice: no repeat
+  EXPECT_EQ(cs.candidate_count(), 1);
+  cs.invalidate();
+  cs.update(nodes);
+  EXPECT_EQ(cs.candidate_pairs_host(), (std::vector<std::array<int, 2>>{{1, 4}}));
+  Kokkos::deep_copy(nodes.f, 0.0);
+  EXPECT_EQ(cs.compute_forces(nodes, 1e-7).touching, 1);
 }
 
 // ---------------------------------------------------------------------------------------------
