@@ -61,10 +61,12 @@ void ContactSystem::set_lattice(const Topology& topo, Bonds& bonds) {
   built_ = false;
   if (bonds.count == 0) return;  // nothing can break
   // A break that a search misses is a contact missed: on overflow (more breaks between two
-  // searches than the queue holds) the list is rebuilt instead.
-  constexpr int kBrokenCapacity = 4096;
+  // searches than the queue holds) the list is rebuilt instead. One slot in 256 may break
+  // between two searches (4096 at least): a shattering lattice then rebuilds only when most of
+  // a large region breaks at once.
+  const int capacity = std::max(4096, bonds.count / 256);
   broken_ = View<int*>(Kokkos::view_alloc(Kokkos::WithoutInitializing, "fracta::contact_broken"),
-                       kBrokenCapacity);
+                       capacity);
   broken_count_ = View<int>("fracta::contact_broken_count");
   bonds.broken_since_search = broken_;
   bonds.broken_count = broken_count_;

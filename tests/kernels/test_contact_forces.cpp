@@ -401,6 +401,37 @@ TEST(ContactForces, JoinedPairsAreLeftOutUntilTheyBreak) {
   }
 }
 
+// A row of bonded discs whose bonds break between two searches: a few are merged into the list
+// (no rebuild); more than the queue holds (4096 here) rebuild it. Either way every pair is
+// listed once.
+TEST(ContactForces, ManyBreaksRebuildTheListAndFewAreMerged) {
+  const double r = 1e-3, gap = 2 * r - 1e-6;
+  for (const int breaks : {100, 5000}) {
+    const int n = breaks + 1;
+    test::HostDiscs h;
+    for (int i = 0; i < n; ++i) h.add(i * gap, 0.0, r, 0.01, 2e6);
+    const Nodes nodes = test::make_nodes(h);
+    std::vector<std::array<int, 2>> chain;
+    for (int i = 0; i + 1 < n; ++i) chain.push_back({i, i + 1});
+    const Topology topo = test::make_topology(n, chain);
+    Bonds bonds = test::make_bonds(topo, chain);
+    ContactSystem cs(iota_nodes(n), ContactParams{}, 1e-4);
+    cs.set_lattice(topo, bonds);
+    cs.update(nodes);
+    ASSERT_EQ(cs.candidate_count(), 0);
+    Kokkos::parallel_for(
+        "break_all", Kokkos::RangePolicy<ExecSpace>(0, breaks), KOKKOS_LAMBDA(const int b) {
+          bonds.state(b) = kBondBroken;
+          bonds.note_broken(b);
+        });
+    EXPECT_EQ(cs.update(nodes), breaks > 4096) << breaks << " breaks";
+    EXPECT_EQ(cs.candidate_count(), breaks);
+    EXPECT_EQ(cs.candidate_pairs_host(), chain);
+    EXPECT_FALSE(cs.update(nodes));  // the queue was taken: nothing more to merge
+    EXPECT_EQ(cs.candidate_count(), breaks);
+  }
+}
+
 // Two cells side by side, A = {0, 1, 4, 3} converted, B = {1, 2, 5, 4} alive, their shared edge
 // 1-4 broken (a crack from A's side): B still joins 1 and 4. When B converts, nothing joins them
 // any more and admit_converted lists the pair; the list then equals a fresh build's.
