@@ -402,12 +402,12 @@ ContactPhaseSums Simulation::contact_forces(double dt, const bool into_slot) {
   ProfilingRegion region("fracta::contact_forces");
   if (m.contacts->candidate_count() == 0 && contact_force_prev_zero_) {
     // No pair (an intact lattice lists none) and no force the last time: no force, no work,
-    // and no sweep over the discs.
-    if (into_slot) {
-      put(slot(&StepSums::contact, pending_sums_.contact), ContactSums());
-      put(slot(&StepSums::contact_work, pending_sums_.contact), 0.0);
-    }
-    return {0.0, 0.0, 0};
+    // no sweep over the discs and nothing for the device to reduce. The zero sums go to the
+    // ledger at once (the caller adds what is returned when there is no slot): its contact
+    // terms depend on no other phase's, so the order does not change them.
+    const ContactPhaseSums none{0.0, 0.0, 0};
+    if (into_slot) ledger_.add(none, dt);
+    return none;
   }
   // The contact's own forces are the change it makes to the accumulators (fx, fy, moment).
   const auto discs = m.contacts->discs();
