@@ -191,17 +191,8 @@ bool ContactSystem::insert_new_discs(const Nodes& nodes, int old_count) {
                        InsertedPairs<true>{discs_, old_index, w.new_discs, position, nodes.radius,
                                            grid, w.cell_start, w.cell_items, skin_, topo_,
                                            extra_cursor, extra_offset, w.extra});
-  // The merged rows: old row + inserted entries (sorted), scanned, then merged.
-  count_merged_rows(old_index, w.old_row_offset, extra_offset, extra_cursor, w.extra, row_offset_);
-  const long total = scan_rows(row_offset_, n);
-  if (total > 2147483647L) throw std::runtime_error("contact: more than 2^31 candidate pairs");
-  reserve_pairs(total);
-  Kokkos::parallel_for("fracta::contact_insert_merge", policy,
-                       MergeInsertedRows{discs_, old_index, w.old_row_offset, w.old_pair_b,
-                                         w.new_of_old, extra_offset, extra_cursor, w.extra,
-                                         row_offset_, pair_i_, pair_j_, pair_b_});
+  pair_count_ = merge_rows(old_index, w.new_of_old, extra_offset, extra_cursor);
   Kokkos::deep_copy(x_build_, position);
-  pair_count_ = total;
   gather_built_ = false;
   ++insertions_;
   return true;
@@ -210,6 +201,23 @@ bool ContactSystem::insert_new_discs(const Nodes& nodes, int old_count) {
 void ContactSystem::set_all_pairs(bool on) {
   if (on != all_pairs_) built_ = false;
   all_pairs_ = on;
+}
+
+long ContactSystem::merge_rows(const View<const int*>& old_index,
+                               const View<const int*>& new_of_old,
+                               const View<const int*>& extra_offset,
+                               const View<int*>& extra_count) {
+  const Insertion& w = insert_;
+  const int n = disc_count();
+  count_merged_rows(old_index, w.old_row_offset, extra_offset, extra_count, w.extra, row_offset_);
+  const long total = scan_rows(row_offset_, n);
+  if (total > 2147483647L) throw std::runtime_error("contact: more than 2^31 candidate pairs");
+  reserve_pairs(total);
+  Kokkos::parallel_for(
+      "fracta::contact_merge_rows", Kokkos::RangePolicy<ExecSpace>(0, n),
+      MergeInsertedRows{discs_, old_index, w.old_row_offset, w.old_pair_b, new_of_old, extra_offset,
+                        extra_count, w.extra, row_offset_, pair_i_, pair_j_, pair_b_});
+  return total;
 }
 
 void ContactSystem::admit_unjoined(const View<const int*>& slots, const int count) {
@@ -238,23 +246,7 @@ void ContactSystem::admit_unjoined(const View<const int*>& slots, const int coun
   const auto rows = std::make_pair(0, n + 1);
   Kokkos::deep_copy(Kokkos::subview(w.old_row_offset, rows), row_offset_);
   std::swap(pair_b_, w.old_pair_b);  // read by the merge, which writes a new one
-  count_merged_rows({}, w.old_row_offset, extra_offset, extra_cursor, w.extra, row_offset_);
-  const long total = scan_rows(row_offset_, n);
-  if (total > 2147483647L) throw std::runtime_error("contact: more than 2^31 candidate pairs");
-  reserve_pairs(total);
-  Kokkos::parallel_for("fracta::contact_admit_merge", Kokkos::RangePolicy<ExecSpace>(0, n),
-                       MergeInsertedRows{discs_,
-                                         {},
-                                         w.old_row_offset,
-                                         w.old_pair_b,
-                                         {},
-                                         extra_offset,
-                                         extra_cursor,
-                                         w.extra,
-                                         row_offset_,
-                                         pair_i_,
-                                         pair_j_,
-                                         pair_b_});
+  const long total = merge_rows({}, {}, extra_offset, extra_cursor);
   admissions_ += total - pair_count_;
   pair_count_ = total;
   gather_built_ = false;

@@ -152,6 +152,13 @@ class ContactSystem {
   // The free pairs of slots [0, count) of `slots` (-1: none) not listed yet go into the built
   // list, in its order (neighbor_search.hpp, "Admitting unjoined pairs").
   void admit_unjoined(const View<const int*>& slots, int count);
+  // The list's rows remade from the old rows (insert_.old_row_offset, old_pair_b) and each
+  // disc's extra_count(a) new entries at extra_offset(a) of insert_.extra (sorted and
+  // de-duplicated here): count_merged_rows, scan, MergeInsertedRows into pair_i_, pair_j_ and
+  // pair_b_. old_index and new_of_old empty: every disc is old, at its own index. Returns the
+  // pair count.
+  long merge_rows(const View<const int*>& old_index, const View<const int*>& new_of_old,
+                  const View<const int*>& extra_offset, const View<int*>& extra_count);
   // Sizes the per-disc views for n discs, reusing their buffers while they hold n; forces a
   // rebuild.
   void resize_discs(size_t n);

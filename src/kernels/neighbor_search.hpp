@@ -557,7 +557,7 @@ struct InsertedPairs {
 // Sorts each disc's inserted entries (extra from extra_offset(a), extra_count(a) of them, filled
 // in any order), drops repeats (extra_count(a) becomes the count left) and writes its merged
 // row length into rows(a): old row + inserted entries. old_index empty: every disc is old, at
-// its own index (admit_unjoined_pairs).
+// its own index (ContactSystem::admit_unjoined).
 inline void count_merged_rows(const View<const int*>& old_index,
                               const View<const int*>& old_row_offset,
                               const View<const int*>& extra_offset, const View<int*>& extra_count,
