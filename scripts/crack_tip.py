@@ -78,4 +78,6 @@ if len(run) >= 3:
     out["E_over_a_end"] = r["fracture"] / r["tip"] if r["tip"] > 0 else None
     print(f"end: tip {r['tip']*1e3:.3f} mm, fracture {r['fracture']:.4g} J/m -> {r['fracture']/max(r['tip'],1e-12):.3f} J/m^2 (incl. process zone)")
 if A.json:
-    json.dump(out, open(A.json, "w"), indent=1)
+    # Frames may store float32 (docs/output.md); JSON takes Python numbers.
+    json.dump(out, open(A.json, "w"), indent=1,
+              default=lambda x: x.item() if isinstance(x, np.generic) else x.tolist())
