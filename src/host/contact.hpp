@@ -87,6 +87,8 @@ class ContactSystem {
                        const View<const int* [6]>& element_bonds);
   // Unjoined pairs admitted into a built list since construction (breaks and conversions).
   long admission_count() const { return admissions_; }
+  // Breaks the queue holds between two searches (set_lattice); more rebuild the list.
+  int broken_capacity() const { return static_cast<int>(broken_.extent(0)); }
 
   long candidate_count() const { return pair_count_; }
   long rebuild_count() const { return rebuilds_; }

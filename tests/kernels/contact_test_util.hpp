@@ -147,13 +147,18 @@ inline Bonds make_bonds(const Topology& t, const std::vector<std::array<int, 2>>
   return b;
 }
 
-// Bond `slot` breaks as the bond kernel breaks it: its state, and the note to the contact.
-inline void break_bond(const Bonds& bonds, const int slot) {
+// Bonds [first, first + count) break as the bond kernel breaks them: their state, and the note
+// to the contact.
+inline void break_bonds(const Bonds& bonds, const int first, const int count) {
   Kokkos::parallel_for(
-      "fracta::test_break_bond", Kokkos::RangePolicy<ExecSpace>(0, 1), KOKKOS_LAMBDA(const int) {
-        bonds.state(slot) = kBondBroken;
-        bonds.note_broken(slot);
+      "fracta::test_break_bonds", Kokkos::RangePolicy<ExecSpace>(first, first + count),
+      KOKKOS_LAMBDA(const int b) {
+        bonds.state(b) = kBondBroken;
+        bonds.note_broken(b);
       });
+}
+inline void break_bond(const Bonds& bonds, const int slot) {
+  break_bonds(bonds, slot, 1);
 }
 
 }  // namespace fracta::test
