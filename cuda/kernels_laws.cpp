@@ -24,8 +24,8 @@ void laws_kernels(const BondLaw& bond_law, const ContactLaw& contact_law,
         r += face.below_on_every_face(sigma_n, tau) ? 1.0 : 0.0;
         const CohesiveSoftening soft = bond_law.softening();
         double onset;
-        const double lambda_f =
-            soft.final_separation(force, 2.0, 1e6, 5e5, 1e-3, soft.crack_area_factor[0], onset);
+        const double lambda_f = soft.final_separation(force, 2.0, 1e6, 5e5, 1e-3,
+                                                      soft.crack_area_factor[0], 1.25, onset);
         const double damage =
             CohesiveSoftening::damage(0.5 * (onset + lambda_f), onset, lambda_f, 0.0);
         double fn, fs;

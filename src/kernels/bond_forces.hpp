@@ -472,6 +472,17 @@ struct BondForces {
                                                     const T (&s3)[3], const T& cells, const T& fn,
                                                     const T& fs,
                                                     const double rate_factor = 1.0) const {
+    T sigma_n, tau;
+    face_traction(s, s3, cells, fn, fs, sigma_n, tau);
+    if (!scaled(rate_factor)) return face.reaches(sigma_n, tau);
+    return face.reaches(sigma_n, tau, strength_scale<T>(s) * rate_factor);
+  }
+
+  // The traction (sigma_n, tau) reaches_strength checks.
+  template <class T, int L>
+  KOKKOS_FORCEINLINE_FUNCTION void face_traction(const BondLanes<L>& s, const T (&s3)[3],
+                                                 const T& cells, const T& fn, const T& fs,
+                                                 T& sigma_n, T& tau) const {
     T x0i, y0i, x0j, y0j;
     node_pairs(nodes.x0, s.i, s.run, x0i, y0i);
     node_pairs(nodes.x0, s.j, s.run, x0j, y0j);
@@ -479,15 +490,12 @@ struct BondForces {
     const T inverse_L0 = 1.0 / column<T>(bonds.length0, s.b, true);
     const T n0x = ux * inverse_L0, n0y = uy * inverse_L0;
     const T mean = cells > 1.0 ? splat<T>(0.5) : splat<T>(1.0);  // exactly s3 / cells
-    T sigma_n, tau;
     FaceStrength::traction(s3[0] * mean, s3[1] * mean, s3[2] * mean, n0x, n0y, sigma_n, tau);
     if (any_lane(cells == 0.0)) {  // rare in a batch: it then gathers the areas
       const T area = column<T>(bonds.area, s.b, true);
       sigma_n = cells > 0.0 ? sigma_n : (area > 0.0 ? fn / area : splat<T>(0.0));
       tau = cells > 0.0 ? tau : (area > 0.0 ? fabs_(fs) / area : splat<T>(0.0));
     }
-    if (!scaled(rate_factor)) return face.reaches(sigma_n, tau);
-    return face.reaches(sigma_n, tau, strength_scale<T>(s) * rate_factor);
   }
 
   // Next to a crack (one of bond b's cells cracked, `cells` > 0 intact ones left): the intact
@@ -499,6 +507,17 @@ struct BondForces {
   FRACTA_NOINLINE KOKKOS_FUNCTION bool reaches_strength_beside_crack(
       const BondLaw& law, const BondLanes<1>& s, const double (&s3)[3], const double cells,
       const double fn, const double rate_factor) const {
+    double local, tau;
+    if (!traction_beside_crack(law, s, s3, cells, fn, local, tau)) return false;
+    if (!scaled(rate_factor)) return law.face().reaches(local, tau);
+    return law.face().reaches(local, tau, strength_scale<double>(s) * rate_factor);
+  }
+
+  // The traction reaches_strength_beside_crack checks; false where it does not apply.
+  KOKKOS_INLINE_FUNCTION bool traction_beside_crack(const BondLaw& law, const BondLanes<1>& s,
+                                                    const double (&s3)[3], const double cells,
+                                                    const double fn, double& local,
+                                                    double& tau) const {
     const int b = s.b[0], i = s.i[0], j = s.j[0];
     const double area = bonds.area(b);
     if (!(cells > 0.0) || !(area > 0.0)) return false;
@@ -506,13 +525,27 @@ struct BondForces {
     const double n0x = (nodes.x0(j, 0) - nodes.x0(i, 0)) * inverse_L0;
     const double n0y = (nodes.x0(j, 1) - nodes.x0(i, 1)) * inverse_L0;
     const double mean = 1.0 / cells;
-    double sigma_n, tau;
+    double sigma_n;
     FaceStrength::traction(s3[0] * mean, s3[1] * mean, s3[2] * mean, n0x, n0y, sigma_n, tau);
     const double sigma_tt = (s3[0] + s3[1]) * mean - sigma_n;
-    const double local =
-        FaceStrength::local_normal(sigma_n, sigma_tt, fn / area, law.poisson_ratio_eff);
-    if (!scaled(rate_factor)) return law.face().reaches(local, tau);
-    return law.face().reaches(local, tau, strength_scale<double>(s) * rate_factor);
+    local = FaceStrength::local_normal(sigma_n, sigma_tt, fn / area, law.poisson_ratio_eff);
+    return true;
+  }
+
+  // How far bond b has passed its strength (FaceStrength::excess) on the tractions of the face
+  // checks that found it there, the larger of the two beside a crack. Out of line: only a bond
+  // that starts to soften asks.
+  FRACTA_NOINLINE KOKKOS_FUNCTION double strength_excess(const BondLaw& law, const BondLanes<1>& s,
+                                                         const double (&s3)[3], const double cells,
+                                                         const double fn, const double fs,
+                                                         const double rate_factor) const {
+    const double scale = strength_scale<double>(s) * rate_factor;
+    double sigma_n, tau;
+    face_traction(s, s3, cells, fn, fs, sigma_n, tau);
+    double excess = law.face().excess(sigma_n, tau, scale);
+    if (beside_crack(s.b[0]) && traction_beside_crack(law, s, s3, cells, fn, sigma_n, tau))
+      excess = fmax(excess, law.face().excess(sigma_n, tau, scale));
+    return excess;
   }
 
   // The magnitude of bond b's normal strain rate |(v_j - v_i) . n| / L0 (1/s), with the
@@ -759,14 +792,26 @@ struct BondForces {
   }
 
   // A bond at its strength: brittle, it breaks; cohesive, it starts to soften from the effective
-  // separation it has now (CohesiveSoftening::final_separation), unless its share of G_f is no
-  // more than it holds. Returns the onset separation, or 0 where it breaks.
+  // separation at which it met its strength, its separation now over `excess`
+  // (CohesiveSoftening::final_separation), unless its share of G_f is no more than it held
+  // there. Returns the onset separation, or 0 where it breaks.
   KOKKOS_FORCEINLINE_FUNCTION double start_softening(const int b, const CohesiveSoftening& law,
-                                                     const BondValues& v) const {
+                                                     const BondValues& v,
+                                                     const double excess) const {
     if (!law.cohesive()) return 0.0;
+    // The step's path is taken proportional, so the bond met its strength at 1 / excess of its
+    // separation now; but never before the last step, when it was below its strength: where the
+    // traction jumped past the strength without the bond stretching as much (a neighbour broke
+    // and the face check beside the crack took over), the crossing is the last step's
+    // separation. Undamaged before the onset, the last step's forces are its springs'.
+    const double now = CohesiveSoftening::effective_separation(v.fn, v.fs, v.kn, v.ks);
+    const double before = CohesiveSoftening::effective_separation(v.fn_old, v.fs_old, v.kn, v.ks);
+    const double within_step =
+        before >= now ? 1.0 : (before > 0.0 ? fmin(excess, now / before) : excess);
     double onset;
-    const double final_separation = law.final_separation(
-        v.fn, v.fs, v.kn, v.ks, v.length0, law.crack_area_factor[bonds.kind(b)], onset);
+    const double final_separation =
+        law.final_separation(v.fn, v.fs, v.kn, v.ks, v.length0,
+                             law.crack_area_factor[bonds.kind(b)], within_step, onset);
     if (!(onset > 0.0 && final_separation > onset)) return 0.0;
     bonds.onset_separation(b) = onset;
     mark_cells_cracked(b);
@@ -845,13 +890,17 @@ struct BondForces {
       // The static strength first: the dynamic increase factor is >= 1, so only a bond that
       // reaches it needs its strain rate and the factor (a logarithm), not every bond each step.
       bool reached = reaches(1.0);
+      double factor = 1.0;  // the dynamic increase factor the check used
       if (reached && law.rate.active()) {
         const double rate = normal_strain_rate(s, g, v.length0);
-        reached = reaches(law.rate.strength_factor(rate));
+        factor = law.rate.strength_factor(rate);
+        reached = reaches(factor);
         if (reached) softening.fracture_energy *= law.rate.fracture_energy_factor(rate);
       }
       if (reached) {
-        onset = start_softening(b, softening, v);
+        const double excess =
+            softening.cohesive() ? strength_excess(law, s, s3, cells, v.fn, v.fs, factor) : 1.0;
+        onset = start_softening(b, softening, v, excess);
         breaks = onset == 0.0;
       }
     }

@@ -132,6 +132,18 @@ struct FaceStrength {
     return r;
   }
 
+  // How far the traction (sigma_n, tau) has passed the strength of factor `scale`: the largest
+  // ratio of demand to strength over the criteria, sigma_n / (sigma_t scale) and
+  // (tau + sigma_n tan(phi)) / (c scale), at least 1. A stress that grows in proportion along a
+  // step reached the strength at 1 / ratio of it (CohesiveSoftening::final_separation).
+  KOKKOS_INLINE_FUNCTION double excess(const double sigma_n, const double tau,
+                                       const double scale) const {
+    double ratio = 1.0;
+    if (tensile_strength > 0.0) ratio = fmax(ratio, sigma_n / (tensile_strength * scale));
+    if (cohesion > 0.0) ratio = fmax(ratio, (tau + sigma_n * tan_friction) / (cohesion * scale));
+    return ratio;
+  }
+
   // Whether a stress of Mohr circle (centre C, radius R) is below the strength on every face,
   // by a margin. Over the faces, sigma_n <= C + R, and tau + sigma_n tan(phi) is largest where the
   // line of slope -tan(phi) touches the circle: C tan(phi) + R sqrt(1 + tan(phi)^2). Both bounds
@@ -217,15 +229,22 @@ struct CohesiveSoftening {
     return damage > 0.0 ? applied / (1.0 - damage) : applied;
   }
 
-  // At the onset, with undamaged forces fn, fs: lambda_0 (onset) and lambda_f (returned), for a
-  // bond of stiffnesses kn, ks, length L0 and crack area factor `area_factor` (of its kind). The
-  // bond softens where onset > 0 and lambda_f > onset; elsewhere it breaks as a brittle one.
+  // At the step a bond reaches its strength, with undamaged forces fn, fs that have passed it by
+  // the factor `excess` (>= 1, FaceStrength::excess): lambda_0 (onset) and lambda_f (returned),
+  // for a bond of stiffnesses kn, ks, length L0 and crack area factor `area_factor` (of its
+  // kind). The onset is where the bond met its strength along the step, lambda / excess, holding
+  // E_0 = stored / excess^2, not where the step ended: a step that carries a bond past its
+  // strength would otherwise raise its peak by up to the step's stress increment, and bonds whose
+  // strengths differ by less than that increment would soften alike (a strength scatter finer
+  // than a step is lost). The bond softens where onset > 0 and lambda_f > onset; elsewhere it
+  // breaks as a brittle one.
   template <class T>
   KOKKOS_INLINE_FUNCTION T final_separation(const T& fn, const T& fs, const T& kn, const T& ks,
-                                            const T& length0, const T& area_factor,
+                                            const T& length0, const T& area_factor, const T& excess,
                                             T& onset) const {
-    onset = effective_separation(fn, fs, kn, ks);
-    const T stored = stored_energy(fn > 0.0 ? fn : splat<T>(0.0), fs, splat<T>(0.0), kn, ks);
+    onset = effective_separation(fn, fs, kn, ks) / excess;
+    const T stored =
+        stored_energy(fn > 0.0 ? fn : splat<T>(0.0), fs, splat<T>(0.0), kn, ks) / (excess * excess);
     const T share = fracture_energy * kn * length0 * area_factor;  // G_f A_b
     return stored > 0.0 ? share * onset / stored : splat<T>(0.0);
   }

@@ -117,16 +117,23 @@ long joined_pairs_on_the_list(const Model& m) {
 // is listed at every step, and no joined pair is; and the run is the same to the bit as with a
 // rebuild at every conversion (every state view), since the gather sums the touching pairs in the
 // same order. On the device path the node sums add atomically and the impact carries the round-off
-// on: the two runs then part by up to 6e-7 of a view's largest value (measured, node forces, 40
-// us), so 1e-5 there; a pair missing from the list changes a contact force by its whole size.
+// on: two runs that both rebuild part as much as these two do, by about 1e-8 of a view's largest
+// value at 20 us and 4e-3 at 40 us (measured, 2 threads); so there the states are compared at
+// 20 us, within 1e-5 (a pair missing from the list changes a contact force by its whole size),
+// and the list's checks run to the end on both paths.
 TEST(Contact, InsertedDiscsMissNoTouchingPairAndGiveTheRebuildRunBitwise) {
   const Case c = penetration_case(40e-6);
   Simulation inserting(c), rebuilding(c);
   rebuilding.model().contacts->set_insertion(false);
   long missing = 0, joined = 0, steps = 0;
+  test::StateCopy inserting_at_20us, rebuilding_at_20us;
   while (inserting.time() < c.sim.end_time * (1 - 1e-12) && !inserting.failed()) {
     inserting.step(true);
     rebuilding.step(true);
+    if (inserting_at_20us.names.empty() && inserting.time() >= 20e-6) {
+      inserting_at_20us = test::copy_state(inserting);
+      rebuilding_at_20us = test::copy_state(rebuilding);
+    }
     missing += touching_pairs_off_the_list(inserting.model());
     joined += joined_pairs_on_the_list(inserting.model());
     ++steps;
@@ -144,7 +151,11 @@ TEST(Contact, InsertedDiscsMissNoTouchingPairAndGiveTheRebuildRunBitwise) {
   EXPECT_EQ(cr.insertion_count(), 0);
   EXPECT_LT(ci.rebuild_count() + ci.insertion_count() / 2, cr.rebuild_count());
   EXPECT_EQ(inserting.conversions(), rebuilding.conversions());
-  EXPECT_GE(test::expect_same_state(inserting, rebuilding, 1e-5), 40);
+  if (test::kBitwiseRuns) {
+    EXPECT_GE(test::expect_same_state(inserting, rebuilding), 40);
+  } else {
+    EXPECT_GE(test::expect_same_state(inserting_at_20us, rebuilding_at_20us, 1e-5), 40);
+  }
 }
 
 TEST(Contact, TrackedDiscsAreTheBoundaryNodesAndParticlesAndMissNoTouchingPair) {

@@ -1,16 +1,19 @@
 // Dynamic fragmentation at a uniform strain rate (cases/validation/bar_fragmentation_e*.toml;
 // docs/validation.md "Fragmentation at a uniform strain rate"): a ceramic bar starts on the
 // field v = eps_dot x with its ends held at that velocity, the one-dimensional problem of the
-// expanding ring, at eps_dot / eps_dot_0 = 1, 10 and 100. What is asserted:
-//  - bound: the mean fragment size (the bar's length over its count of fragments) stays below
-//    Grady's (1982) energy balance s = (24 G_c / (rho eps_dot^2))^(1/3), an upper bound that
-//    leaves out the time the cohesive zones take to open;
+// expanding ring, at eps_dot / eps_dot_0 = 1, 10 and 100, each over seeds 1-4 of its strength
+// scatter. What is asserted:
+//  - published: at eps_dot / eps_dot_0 = 10 and 100, the mean fragment size over the four seeds
+//    (the bar's length over its count of fragments, averaged) within 25% of the fit of Zhou,
+//    Molinari & Ramesh (2006), s / L0 = 4.5 / (1 + 4.5 e^(2/3)): a tolerance of 25%. The
+//    sizes are converged there: 12, 25 and 50 cells per fitted size give 0.97-1.15 of it
+//    (docs/validation.md). At e = 1 the sizes are 1.3-1.7 times the fit and not converged, so
+//    that ratio is recorded, not asserted;
+//  - bound: every realisation's mean size stays below Grady's (1982) energy balance
+//    s = (24 G_c / (rho eps_dot^2))^(1/3), an upper bound that leaves out the time the cohesive
+//    zones take to open;
 //  - conservation: the energy balance closes within 1% through the fragmentation (the
 //    prescribed ends' work, the fracture energy of every softened bond).
-// Recorded, not asserted: the size over the fit of Zhou, Molinari & Ramesh (2006),
-// s / L0 = 4.5 / (1 + 4.5 e^(2/3)). The lattice's sizes are not converged in the cell size (a
-// crack must cross the bar's height, which the 1-D model does not have: docs/validation.md), so
-// that comparison is reported, not tested.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -57,26 +60,36 @@ Scales scales_of(const Material& m) {
 
 class BarFragmentation : public ::testing::TestWithParam<int> {};
 
-TEST_P(BarFragmentation, MeanFragmentSizeStaysBelowGradysBound) {
+TEST_P(BarFragmentation, MeanSizeOverFourSeedsMeetsTheZmrFitAndGradysBound) {
   const std::string file = std::string(FRACTA_SOURCE_DIR) +
                            "/cases/validation/bar_fragmentation_e" + std::to_string(GetParam()) +
                            ".toml";
-  const Case c = load_case(file);
+  Case c = load_case(file);
   const Scales sc = scales_of(c.materials[0]);
   const double strain_rate = c.bodies[0].initial_velocity_gradient[0][0];
   const double e = strain_rate / sc.strain_rate_0;
   const double zmr = sc.L0 * 4.5 / (1 + 4.5 * std::pow(e, 2.0 / 3.0));
   const double grady = std::cbrt(24 * sc.G_c / (sc.rho * strain_rate * strain_rate));
-  const FragmentationRun r = run_bar(c);
-  ASSERT_GT(r.fragments, 10);  // it fragmented
-  const double size = c.bodies[0].shape.width / r.fragments;
-  EXPECT_LT(size, grady);
-  EXPECT_LT(r.energy_error, 0.01);
+  const int seeds = 4;
+  double mean = 0;
+  std::string counts;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    c.sim.seed = seed;
+    const FragmentationRun r = run_bar(c);
+    ASSERT_GT(r.fragments, 10) << "seed " << seed;  // it fragmented
+    const double size = c.bodies[0].shape.width / r.fragments;
+    EXPECT_LT(size, grady) << "seed " << seed;
+    EXPECT_LT(r.energy_error, 0.01) << "seed " << seed;
+    mean += size / seeds;
+    counts += (seed > 1 ? " " : "") + std::to_string(r.fragments);
+  }
+  // Converged and asserted at 10 and 100 only (the header).
+  if (GetParam() >= 10) EXPECT_NEAR(mean / zmr, 1.0, 0.25) << "e = " << e;
   RecordProperty("normalised_strain_rate", std::to_string(e));
-  RecordProperty("fragments", std::to_string(r.fragments));
-  RecordProperty("mean_size_um", std::to_string(size * 1e6));
-  RecordProperty("size_over_zmr", std::to_string(size / zmr));
-  RecordProperty("size_over_grady", std::to_string(size / grady));
+  RecordProperty("fragments_seeds_1_to_4", counts);
+  RecordProperty("mean_size_um", std::to_string(mean * 1e6));
+  RecordProperty("size_over_zmr", std::to_string(mean / zmr));
+  RecordProperty("size_over_grady", std::to_string(mean / grady));
 }
 
 INSTANTIATE_TEST_SUITE_P(StrainRates, BarFragmentation, ::testing::Values(1, 10, 100),

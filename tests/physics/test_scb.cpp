@@ -67,8 +67,9 @@ double rotation_deg(const Simulation& sim, double side) {
 
 // Reference values of the shipped case (README "The paper's scenes"): the crack leaves the
 // notch at 12 us, passes mid-ligament at 18 us and 1 mm below the apex at 32 us (speeds 1187
-// and 465 m/s), rotation 7.94 deg at 160 us (7.33 before the stable step counted the contact
-// dampers: a smaller step, the same crack times, a rotation 8% larger). Runs on the host path
+// and 465 m/s), rotation 6.71 deg at 160 us (7.33 before the stable step counted the contact
+// dampers: a smaller step, the same crack times, a rotation 8% larger; 7.94 before a cohesive
+// bond's softening started where it met its strength, the same crack times). Runs on the host path
 // are bitwise the same on any thread count. The device path's atomic scatter sums in another
 // order on every run, which the fragmenting halves carry on: 40 runs on 2 threads gave the
 // same gauge times and rotations of 7.65-8.11 deg. Tolerances: the times within 3 us (three
@@ -98,7 +99,7 @@ TEST(ScbGranite, CrackRunsUpTheAxisAtTheReferenceSpeedsAndTheHalvesRotate) {
   EXPECT_NEAR(reached[0], 12e-6, 3e-6);
   EXPECT_NEAR(reached[1], 18e-6, 3e-6);
   EXPECT_NEAR(reached[2], 32e-6, 3e-6);
-  EXPECT_NEAR(rotation, 7.94, 0.10 * 7.94);
+  EXPECT_NEAR(rotation, 6.71, 0.10 * 6.71);
   EXPECT_LT(sim.history().energy.error, 0.01);
 }
 
