@@ -902,6 +902,12 @@ struct BondForces {
             softening.cohesive() ? strength_excess(law, s, s3, cells, v.fn, v.fs, factor) : 1.0;
         onset = start_softening(b, softening, v, excess);
         breaks = onset == 0.0;
+      } else if (cells == 0.0 && !(v.kn > 0.0) && !(v.ks > 0.0)) {
+        // A slot without springs (a diagonal at nu = 0, where k2 = 0: docs/physics.md 1.2)
+        // carries no force and stands only for its cells' material: once none is intact it
+        // holds nothing together, and left active it would join its discs for the fragments
+        // and the contact list (a cracked nu = 0 block stayed one fragment).
+        breaks = true;
       }
     }
     double damage = v.damage_old;
