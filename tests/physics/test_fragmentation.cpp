@@ -7,7 +7,7 @@
 //    its count of fragments, averaged) within 25% of the fit of Zhou, Molinari & Ramesh (2006),
 //    s / L0 = 4.5 / (1 + 4.5 e^(2/3)): a tolerance of 25%. The bars are one-dimensional as the
 //    problem is (nu = 0, two cells high: the cases' headers), and the sizes are converged in the
-//    cells there: 12, 25 and 50 cells per fitted size give 0.95-1.13 of the fit at each rate
+//    cells there: 12, 25 and 50 cells per fitted size give means of 0.99-1.06 of the fit
 //    (docs/validation.md);
 //  - bound: every realisation's mean size stays below Grady's (1982) energy balance
 //    s = (24 G_c / (rho eps_dot^2))^(1/3), an upper bound that leaves out the time the cohesive
