@@ -21,11 +21,12 @@ Model (SI units, thickness t = 1 m):
 With --seed each bond's s0 is scaled by a Weibull factor of unit mean and modulus --weibull
 (fracta's case draws its bond strengths so, with m = 6).
 
-Measured as fracta's test measures (tests/physics/test_glass_branching.cpp), on the damage map
-(phi >= 0.35, the pre-crack's faces start at 0.42): the crack is the 8-connected damaged set
-that holds the pre-crack; its tip the rightmost damaged particle; its length the path length
-through the damaged cells from x = 50 mm; a lasting branch is a split of the crack into two
-arms of at least 10 mm each at the end; the junction is the last column before the split.
+Measured as fracta's test measures (tests/physics/test_glass_branching.cpp), with the project's
+crack tracer (scripts/cracks.py) on the damaged particles (phi >= 0.35) right of the pre-crack's
+tip, as fracta's on its broken bonds: the crack is the set joined to the tip by steps of at most
+1.5 grid spacings, its length the path to the farthest point; a lasting branch leaves that path
+and reaches 10 mm from it at the end; the tip reaches the junction when the crack is as long as
+the path to it; the speed before branching is the mean over the 10 us before that.
 
   scripts/pd_branching.py --load 2e6 [--seed K --weibull 6] [--json out.json] [--png out.png]
   scripts/pd_branching.py --stack out.png a.png b.png ...   (pictures one above the other)
@@ -33,7 +34,6 @@ arms of at least 10 mm each at the end; the junction is the last column before t
 One run to 43 us takes about 2 minutes on one core (1.5 M bonds, 1720 steps).
 """
 import argparse
-import heapq
 import json
 import math
 import os
@@ -42,6 +42,9 @@ import time
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cracks import trace  # noqa: E402  the project's crack tracer
 
 E, RHO, G0 = 72e9, 2440.0, 3.8  # Pa, kg/m^3, J/m^2: soda-lime glass (Ha & Bobaru 2010)
 WIDTH, HEIGHT = 0.100, 0.040  # m
@@ -127,122 +130,49 @@ def simulate(m, load, horizon, end_time, dt, snapshot_every):
     return np.array(times), damage
 
 
-NEIGHBOURS = [(di, dj, math.hypot(di, dj)) for di in (-1, 0, 1) for dj in (-1, 0, 1)
-              if di or dj]
+def measure(times, damage, centres, dx, end_time):
+    """The crack as fracta's glass test measures it, with the project's tracer (scripts/cracks.py,
+    the mirror of src/host/cracks.cpp) on the damaged particles right of the pre-crack's tip."""
+    right = centres[..., 0] > PRECRACK_TIP  # the pre-crack's faces start damaged
 
+    def crack(phi, min_branch):
+        points = centres[(phi >= DAMAGED) & right]
+        return trace(points, np.array([PRECRACK_TIP, MIDLINE]), 1.5 * dx, min_branch)
 
-def crack_cells(phi, dx):
-    """The 8-connected damaged cells that hold the pre-crack (a set of (i, j))."""
-    damaged = phi >= DAMAGED
-    nx, ny = phi.shape
-    i0, j0 = int(0.045 / dx), ny // 2
-    start = [(i0, jj) for jj in range(j0 - 2, j0 + 2) if damaged[i0, jj]]
-    seen = set(start)
-    stack = list(start)
-    while stack:
-        ci, cj = stack.pop()
-        for di, dj, _ in NEIGHBOURS:
-            q = (ci + di, cj + dj)
-            if 0 <= q[0] < nx and 0 <= q[1] < ny and q not in seen and damaged[q]:
-                seen.add(q)
-                stack.append(q)
-    return seen
-
-
-def path_lengths(cells, sources, dx):
-    """Path length through `cells` from the nearest source cell (Dijkstra, 8 neighbours)."""
-    dist = {s: 0.0 for s in sources}
-    heap = [(0.0, s) for s in sources]
-    while heap:
-        d, p = heapq.heappop(heap)
-        if d > dist[p]:
-            continue
-        for di, dj, w in NEIGHBOURS:
-            q = (p[0] + di, p[1] + dj)
-            if q in cells and d + w * dx < dist.get(q, math.inf):
-                dist[q] = d + w * dx
-                heapq.heappush(heap, (dist[q], q))
-    return dist
-
-
-def components(cells):
-    """The 8-connected components of a set of cells."""
-    left, parts = set(cells), []
-    while left:
-        seed = left.pop()
-        part, stack = {seed}, [seed]
-        while stack:
-            p = stack.pop()
-            for di, dj, _ in NEIGHBOURS:
-                q = (p[0] + di, p[1] + dj)
-                if q in left:
-                    left.remove(q)
-                    part.add(q)
-                    stack.append(q)
-        parts.append(part)
-    return parts
-
-
-def tip_and_length(phi, dx):
-    cells = crack_cells(phi, dx)
-    start = int(PRECRACK_TIP / dx) - 1  # the column of the pre-crack's tip
-    right = {p for p in cells if p[0] >= start}
-    if not right:
-        return PRECRACK_TIP, 0.0
-    dist = path_lengths(right, [p for p in right if p[0] == start], dx)
-    tip = (max(p[0] for p in right) + 0.5) * dx
-    return tip, max(dist.values()) if dist else 0.0
-
-
-def lasting_split(phi, dx):
-    """The first column where the crack parts into two arms of >= LASTING each, or None."""
-    cells = crack_cells(phi, dx)
-    last = max(p[0] for p in cells)
-    for column in range(int(PRECRACK_TIP / dx), last + 1):
-        arms = []
-        for part in components([p for p in cells if p[0] >= column]):
-            entry = [p for p in part if p[0] == column]
-            if not entry:
-                continue
-            dist = path_lengths(part, entry, dx)
-            far = max(dist, key=dist.get)
-            arms.append(dict(length=dist[far] + dx, tip=((far[0] + 0.5) * dx, (far[1] + 0.5) * dx),
-                             entry_y=(sum(p[1] for p in entry) / len(entry) + 0.5) * dx))
-        long_arms = [arm for arm in arms if arm["length"] >= LASTING]
-        if len(long_arms) >= 2:
-            before = [p[1] for p in cells if p[0] == column - 1]
-            return dict(junction=((column - 0.5) * dx, (sum(before) / len(before) + 0.5) * dx),
-                        arms=sorted(long_arms, key=lambda arm: -arm["entry_y"]))
-    return None
-
-
-def measure(times, damage, dx, end_time):
-    history = [(t,) + tip_and_length(phi, dx) for t, phi in zip(times, damage)]
     end = min(range(len(times)), key=lambda k: abs(times[k] - end_time))
-    split = lasting_split(damage[end], dx)
-    result = dict(time_s=float(times[end]), crack_length_m=history[end][2],
-                  tip_x_m=history[end][1], branched=split is not None)
-    # 1-us speeds of the path length (snapshots two apart at 0.5 us).
-    speeds = [(history[k][2] - history[k - 2][2]) / (history[k][0] - history[k - 2][0])
-              for k in range(2, end + 1)]
-    result["fastest_1us_m_per_s"] = max(speeds) if speeds else 0.0
-    if split:
-        xj = split["junction"][0]
-        reached = next(k for k in range(len(history)) if history[k][1] >= xj)
-        t_branch = history[reached][0]
-        earlier = min(range(len(history)), key=lambda k: abs(history[k][0] - (t_branch - 10e-6)))
-        result.update(
-            junction_m=split["junction"], arm_lengths_m=[a["length"] for a in split["arms"]],
-            branch_time_s=t_branch,
-            speed_before_branching_m_per_s=(history[reached][2] - history[earlier][2]) /
-            (t_branch - history[earlier][0]),
-            fastest_1us_to_junction_m_per_s=max(speeds[:max(1, reached - 1)]))
-    result["history"] = [[round(t * 1e6, 3), round(x * 1e3, 3), round(l * 1e3, 3)]
-                         for t, x, l in history]
+    samples = [(0.0, 0.0)] + [(times[k], crack(damage[k], 10 * dx)["length"])
+                              for k in range(end + 1)]
+    final = crack(damage[end], LASTING)
+    result = dict(time_s=float(times[end]), crack_length_m=final["length"],
+                  tip_m=final["tip"], branched=bool(final["branches"]))
+
+    def fastest_until(until):  # over 1 us: samples two apart, as the test
+        return max([(samples[k][1] - samples[k - 2][1]) / (samples[k][0] - samples[k - 2][0])
+                    for k in range(2, len(samples)) if samples[k][0] <= until * (1 + 1e-9)],
+                   default=0.0)
+
+    result["fastest_1us_m_per_s"] = fastest_until(times[end])
+    if final["branches"]:
+        path = np.array(final["path"])
+        along = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(path, axis=0).T))])
+
+        def along_to(p):  # length of the path to its point nearest p
+            return along[np.argmin(np.hypot(*(path - np.array(p)).T))]
+
+        first = min(final["branches"], key=lambda b: along_to(b["junction"]))
+        junction_length = along_to(first["junction"])
+        t_branch = next(t for t, length in samples if length >= junction_length)
+        before = np.interp(t_branch - 10e-6, [t for t, _ in samples], [l for _, l in samples])
+        result.update(junction_m=first["junction"], branch_time_s=t_branch,
+                      branch_length_m=final["branches"][0]["length"],
+                      path_past_junction_m=final["length"] - junction_length,
+                      speed_before_branching_m_per_s=(junction_length - before) / 10e-6,
+                      fastest_1us_to_junction_m_per_s=fastest_until(t_branch))
+    result["history"] = [[round(t * 1e6, 3), round(length * 1e3, 3)] for t, length in samples]
     return result
 
 
-def picture(phi, dx, path, title):
+def picture(phi, path, title):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -280,7 +210,8 @@ def main():
     started = time.time()
     model = build(a.horizon, a.per_horizon, a.seed, a.weibull)
     times, damage = simulate(model, a.load, a.horizon, a.end_time, a.dt, 0.5e-6)
-    result = measure(times, damage, model["dx"], a.end_time)
+    centres = model["x"].reshape(model["nx"], model["ny"], 2)  # as the damage maps
+    result = measure(times, damage, centres, model["dx"], a.end_time)
     result.update(load_pa=a.load, seed=a.seed, weibull=a.weibull if a.seed is not None else None,
                   bonds=int(len(model["i"])), wall_s=round(time.time() - started, 1))
     summary = {k: v for k, v in result.items() if k != "history"}
@@ -291,7 +222,7 @@ def main():
             json.dump(result, f, indent=1)
     if a.png:
         label = "equal bonds" if a.seed is None else f"Weibull m = {a.weibull:g}, seed {a.seed}"
-        picture(damage[-1], model["dx"], a.png,
+        picture(damage[-1], a.png,
                 f"bond-based PD, {a.load / 1e6:g} MPa, {label}, {times[-1] * 1e6:.0f} us")
 
 
