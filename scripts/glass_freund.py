@@ -1,0 +1,79 @@
+#!/usr/bin/python3
+"""The glass plate's crack (cases/validation/ha_bobaru_plate.toml) against Freund's equation of
+motion before the reflected waves return (docs/validation.md, "Before the reflected waves
+return"). The edge tractions p meet on the crack's plane at t0 = 20 mm / c as a suddenly applied
+2p on the faces, K*(t) = 2 (2p) sqrt(c (t - t0)(1 - 2 nu')/pi)/(1 - nu') (plane stress: nu' =
+nu/(1 + nu), c = sqrt(E/(rho (1 - nu^2)))), and G_c = (1 - v/c_R) K*^2/E gives
+l(t) = c_R ((tau - tau_i) - tau_i ln(tau/tau_i)), tau = t - t0, until about 10.4 us.
+  glass_freund.py RUN.h5 ...            fracta runs: traced length and a_E = fracture energy / G_c
+  glass_freund.py --reference R.json    scripts/pd_branching.py results: their traced length
+  glass_freund.py --stationary E.h5     an elastic run (tensile_strength 1e11, fracture_energy
+                                        1e6): K* from the opening behind the tip against the formula
+Options: --load P (2e6), --tip X (50e-3 m, for --stationary)."""
+import argparse, json, math, os, subprocess, sys
+import h5py, numpy as np
+
+ap = argparse.ArgumentParser()
+ap.add_argument("runs", nargs="*")
+ap.add_argument("--reference", nargs="*", default=[])
+ap.add_argument("--stationary", nargs="*", default=[])
+ap.add_argument("--load", type=float, default=2e6)
+ap.add_argument("--tip", type=float, default=50e-3)
+A = ap.parse_args()
+E, nu, rho, gc, thickness = 72e9, 1.0 / 3.0, 2440.0, 3.8, 1e-3
+nu_p = nu / (1 + nu)
+c = math.sqrt(E / (rho * (1 - nu * nu)))
+cs = math.sqrt(E / (2 * (1 + nu)) / rho)
+c_r = (0.862 + 1.14 * nu_p) / (1 + nu_p) * cs  # Viktorov's approximation, as tests/test_util.hpp
+t0, sigma = 20e-3 / c, 2 * A.load
+tau_i = math.pi * E * gc * (1 - nu_p) ** 2 / (4 * sigma**2 * c * (1 - 2 * nu_p))
+
+
+def k_star(t):
+    return 0.0 if t <= t0 else 2 * sigma * math.sqrt(c * (t - t0) * (1 - 2 * nu_p) / math.pi) / (1 - nu_p)
+
+
+def freund(t):
+    tau = t - t0
+    return 0.0 if tau <= tau_i else c_r * ((tau - tau_i) - tau_i * math.log(tau / tau_i))
+
+
+times = [6e-6, 7e-6, 8e-6, 9e-6, 10e-6, 11e-6, 12e-6]
+print(f"c {c:.0f} m/s, c_R {c_r:.0f} m/s, waves meet at {t0*1e6:.2f} us, G* = G_c at {(t0+tau_i)*1e6:.2f} us")
+print("t (us)      " + " ".join(f"{t*1e6:6.1f}" for t in times))
+print("Freund (mm) " + " ".join(f"{freund(t)*1e3:6.2f}" for t in times) + "   (exact to about 10.4 us)")
+here = os.path.dirname(os.path.abspath(__file__))
+for path in A.runs:
+    out = path + ".cracks.json"
+    subprocess.run([sys.executable, f"{here}/cracks.py", path, "--seed", "0.05", "0.0201", "--json", out],
+                   check=True, capture_output=True)
+    traced = {round(r["t"] * 1e6, 1): r["length"] for r in json.load(open(out))}
+    f = h5py.File(path, "r")
+    th, fracture = f["history/time"][:], f["history/energy/fracture"][:]
+    print(f"{os.path.basename(path)}:")
+    print("  traced     " + " ".join(f"{traced.get(round(t*1e6, 1), float('nan'))*1e3:6.2f}" for t in times))
+    print("  a_E        " + " ".join(f"{np.interp(t, th, fracture)/(gc*thickness)*1e3:6.2f}" for t in times))
+for path in A.reference:
+    hist = {round(t, 1): l for t, l in json.load(open(path))["history"]}  # us, mm
+    print(f"{os.path.basename(path)}:")
+    print("  traced     " + " ".join(f"{hist.get(round(t*1e6, 1), float('nan')):6.2f}" for t in times))
+for path in A.stationary:
+    # Opening of the rows beside the cut (y = 20 mm and 20 mm + h) behind the tip: plane stress,
+    # opening = 8 K sqrt(r / 2 pi) / E, fitted as opening / sqrt(r) = C + D r over 2 cells to 2 mm.
+    f = h5py.File(path, "r")
+    X = f["frames/0/node_position"][:].astype(float)
+    h = float(np.min(np.diff(np.unique(np.round(X[:, 0], 9)))))
+    lower = {int(round(x / h)): i for i, (x, y) in enumerate(X) if abs(y - 20e-3) < h / 4}
+    upper = {int(round(x / h)): i for i, (x, y) in enumerate(X) if abs(y - 20e-3 - h) < h / 4}
+    pairs = [(A.tip - k * h, lower[k], upper[k]) for k in lower
+             if k in upper and 2 * h <= A.tip - k * h <= 2e-3]
+    r = np.array([p[0] for p in pairs])
+    print(f"{os.path.basename(path)}: K* (MPa m^0.5) from the opening, and the formula")
+    for k in range(int(f["frames"].attrs["count"])):
+        fr = f[f"frames/{k}"]
+        t = float(fr["time"][()])
+        if t < 4e-6: continue
+        u = fr["node_displacement"][:].astype(float)
+        opening = np.array([u[p[2], 1] - u[p[1], 1] for p in pairs])
+        C = np.polyfit(r, opening / np.sqrt(r), 1)[1]
+        print(f"  {t*1e6:6.2f} us  {C*E*math.sqrt(2*math.pi)/8/1e6:6.3f}  {k_star(t)/1e6:6.3f}")
