@@ -918,6 +918,14 @@ struct BondForces {
         breaks = true;
       else
         damage = CohesiveSoftening::damage(lambda, onset, lambda_f, damage);
+      // Short of lambda_f, 1 - D = lambda_0 (lambda_f - lambda) / (lambda (lambda_f - lambda_0))
+      // may fall below half an ulp, and D rounds to 1: next to lambda_f, or, where lambda_f /
+      // lambda_0 is vast, once lambda passes about 2^53 lambda_0 (a weak bond whose cells' stress
+      // met its strength while its own springs held nothing: lambda_0 and E_0 of rounding size).
+      // At D = 1 the bond applies nothing, and its next step would recover its undamaged shear
+      // force from the applied one as 0 / 0 (CohesiveSoftening::undamaged): it is spent, and
+      // breaks as at lambda_f.
+      if (damage >= 1.0) breaks = true;
     }
     if (breaks) {
       break_bond(s, g, softening, v, acc);

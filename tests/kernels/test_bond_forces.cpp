@@ -533,5 +533,57 @@ TEST(BondForces, CellsBelowStrengthHaveNoFaceAtStrength) {
   EXPECT_GT(far_below_marked, 0.5 * far_below);
 }
 
+// A softening bond whose damage rounds to 1 short of lambda_f breaks. With lambda_f / lambda_0
+// vast, 1 - D ~ lambda_0 / lambda drops below half an ulp once lambda passes about 2^53
+// lambda_0: in the glass plate at Weibull modulus 3 (cases/validation/ha_bobaru_plate.toml,
+// weibull_modulus = 3), an edge bond of strength factor 0.033 met its strength through its
+// cells' Poisson stress while its own springs held fn = 0 and a shear force of rounding size
+// (1.5e-27 N), so it softened from lambda_0 = 1.85e-25 m towards lambda_f = 7.6e20 m; at
+// lambda ~ 1e-9 m D rounded to 1, and left active the bond's next step recovered its undamaged
+// shear force as 0 / 0: NaN forces and energies, then "time step collapsed" at step 781. Here
+// one edge bond of a small cohesive block is given such an onset (1e-25 m, 1e20 m) and stretched
+// by 10 nm (lambda / lambda_0 = 1e17, D = 1 exactly): it must break, and the run stay finite.
+TEST(BondForces, BondWhoseDamageRoundsToOneBreaks) {
+  const double h = 1e-3;
+  Case c = test::rectangle_case(2, 1, h, 72e9, 0.25, 2440.0, Formulation::plane_stress);
+  c.bodies[0].method = BodyMethod::de;
+  c.materials[0].tensile_strength = 30e6;
+  c.materials[0].fracture_energy = 3.8;
+  c.sim.end_time = 1.0;
+  Simulation sim(c);
+  Model& m = sim.model();
+  Bonds& bonds = m.bonds;
+  const auto ends = Kokkos::create_mirror_view_and_copy(HostSpace(), bonds.nodes);
+  const auto state = Kokkos::create_mirror_view_and_copy(HostSpace(), bonds.state);
+  const auto ks = Kokkos::create_mirror_view_and_copy(HostSpace(), bonds.ks);
+  const auto x0 = Kokkos::create_mirror_view_and_copy(HostSpace(), m.nodes.x0);
+  int b = -1;  // an active edge bond with a shear spring, along x
+  for (int k = 0; k < bonds.count && b < 0; ++k)
+    if (state(k) == kBondActive && ks(k) > 0.0 && x0(ends(k, 0), 1) == x0(ends(k, 1), 1)) b = k;
+  ASSERT_GE(b, 0);
+  const auto onset = Kokkos::create_mirror_view_and_copy(HostSpace(), bonds.onset_separation);
+  const auto final_separation =
+      Kokkos::create_mirror_view_and_copy(HostSpace(), bonds.final_separation);
+  onset(b) = 1e-25;
+  final_separation(b) = 1e20;
+  Kokkos::deep_copy(bonds.onset_separation, onset);
+  Kokkos::deep_copy(bonds.final_separation, final_separation);
+  auto x = Kokkos::create_mirror_view_and_copy(HostSpace(), m.nodes.x);
+  const int j = x0(ends(b, 1), 0) > x0(ends(b, 0), 0) ? ends(b, 1) : ends(b, 0);
+  x(j, 0) += 1e-8;  // away from the other end
+  Kokkos::deep_copy(m.nodes.x, x);
+  for (int step = 0; step < 3; ++step) sim.step();
+  ASSERT_FALSE(sim.failed()) << sim.failure();
+  Kokkos::deep_copy(state, bonds.state);
+  EXPECT_EQ(state(b), kBondBroken);
+  const HistoryRecord r = sim.history();
+  EXPECT_FALSE(sim.failed()) << sim.failure();
+  EXPECT_TRUE(std::isfinite(r.energy.fracture));
+  EXPECT_TRUE(std::isfinite(r.energy.kinetic));
+  Kokkos::deep_copy(x, m.nodes.x);
+  for (int n = 0; n < m.nodes.count; ++n)
+    EXPECT_TRUE(std::isfinite(x(n, 0)) && std::isfinite(x(n, 1))) << "disc " << n;
+}
+
 }  // namespace
 }  // namespace fracta
