@@ -1,17 +1,19 @@
 #!/usr/bin/python3
 """K_I(t) of a stationary crack from the crack opening behind the tip,
-delta = 8 K sqrt(r / 2 pi) / E' (plane strain), delta/sqrt(r) = C + D r fitted over [rmin, rmax].
+delta = 8 K sqrt(r / 2 pi) / E' (E' = E / (1 - nu^2) in plane strain, E in plane stress: --modulus),
+delta/sqrt(r) = C + D r fitted over [rmin, rmax].
 The opening is measured between the face node lines (y0, y0 + h) less h.
-usage: k_cod.py OUT.h5 ... [--rmin --rmax]"""
+usage: k_cod.py OUT.h5 ... [--rmin --rmax --y0 --a --modulus]"""
 import argparse, h5py, numpy as np, math
 ap = argparse.ArgumentParser()
 ap.add_argument("h5", nargs="+"); ap.add_argument("--y0", type=float, default=12e-3)
 ap.add_argument("--a", type=float, default=16e-3)
 ap.add_argument("--rmin", type=float, default=0.1e-3); ap.add_argument("--rmax", type=float, default=0.4e-3)
 ap.add_argument("--every", type=int, default=1)
+ap.add_argument("--modulus", type=float, default=None, help="E' (Pa); default the plane-strain glass of crack_case.py")
 A = ap.parse_args()
 E, nu, rho = 72e9, 0.22, 2440.0
-Ep = E / (1 - nu**2)
+Ep = A.modulus or E / (1 - nu**2)
 cd = math.sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / rho)
 for path in A.h5:
     f = h5py.File(path, "r")

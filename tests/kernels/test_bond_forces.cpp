@@ -577,7 +577,6 @@ TEST(BondForces, BondWhoseDamageRoundsToOneBreaks) {
   Kokkos::deep_copy(state, bonds.state);
   EXPECT_EQ(state(b), kBondBroken);
   const HistoryRecord r = sim.history();
-  EXPECT_FALSE(sim.failed()) << sim.failure();
   EXPECT_TRUE(std::isfinite(r.energy.fracture));
   EXPECT_TRUE(std::isfinite(r.energy.kinetic));
   Kokkos::deep_copy(x, m.nodes.x);
