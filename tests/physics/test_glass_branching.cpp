@@ -40,7 +40,9 @@ namespace fracta {
 namespace {
 
 constexpr double kEndTime = 43e-6;  // s, Ha & Bobaru's run
-constexpr double kNu = 1.0 / 3.0;   // the case's glass
+// The case's glass (Pa, -, kg/m^3) and its plane-stress Rayleigh speed (3052 m/s).
+constexpr double kYoungs = 72e9, kNu = 1.0 / 3.0, kDensity = 2440;
+const double kRayleigh = test::plane_stress_rayleigh_speed(kYoungs, kNu, kDensity);
 
 struct CrackSample {
   double time = 0;    // s
@@ -79,9 +81,13 @@ struct GlassRun {
   double fastest = 0;                 // m/s, over 1 us, up to the junction
 };
 
-Case glass_case(const std::uint64_t seed, const double load, const double end_time) {
+// The case at `load` to `end_time`; weibull_modulus 0 keeps its bonds alike, m > 0 gives them
+// Weibull strengths of realisation `seed`.
+Case glass_case(const double load, const double end_time, const double weibull_modulus = 0,
+                const std::uint64_t seed = 1) {
   Case c = load_case(std::string(FRACTA_SOURCE_DIR) + "/cases/validation/ha_bobaru_plate.toml");
   EXPECT_NEAR(c.materials[0].poisson_ratio, kNu, 1e-9);
+  c.materials[0].weibull_modulus = weibull_modulus;
   c.sim.seed = seed;
   c.sim.end_time = end_time;
   for (Load& l : c.loads) l.value = {load};  // the two edges' tractions, applied suddenly
@@ -105,11 +111,9 @@ std::vector<CrackSample> crack_samples(Simulation& sim, const double h, const do
   return samples;
 }
 
-// weibull_modulus 0: the case, every bond alike; m > 0: Weibull bond strengths of realisation seed.
 GlassRun run_glass(const double load, const double weibull_modulus = 0,
                    const std::uint64_t seed = 1) {
-  Case c = glass_case(seed, load, kEndTime);
-  c.materials[0].weibull_modulus = weibull_modulus;
+  const Case c = glass_case(load, kEndTime, weibull_modulus, seed);
   Simulation sim(c);
   GlassRun r;
   const double h = c.bodies[0].cell_size;
@@ -153,11 +157,10 @@ GlassRun run_glass(const double load, const double weibull_modulus = 0,
 }
 
 TEST(GlassBranching, CrackBranchesAt2MPaBelowTheRayleighSpeed) {
-  const double rayleigh = test::plane_stress_rayleigh_speed(72e9, kNu, 2440);  // 3052 m/s
   const GlassRun r = run_glass(2e6);
   RecordProperty("crack_length_mm", std::to_string(r.length * 1e3));
   RecordProperty("fastest_1us_to_junction_m_per_s", std::to_string(r.fastest));
-  EXPECT_LT(r.fastest, rayleigh);
+  EXPECT_LT(r.fastest, kRayleigh);
   ASSERT_TRUE(r.branched) << "no branch of 10 mm by 43 us; the crack is " << r.length * 1e3
                           << " mm long";
   // The published model, reproduced (scripts/pd_branching.py): 66.1 mm, reached at 20.0 us.
@@ -174,7 +177,6 @@ TEST(GlassBranching, CrackBranchesAt2MPaBelowTheRayleighSpeed) {
 // branches in every realisation tried (seeds 1-8), as the published crack does; the deterministic
 // lattice sheds side cracks there that stop (docs/validation.md). Seeds 1-3, to 43 us.
 TEST(GlassBranching, WeibullBondsBranchAt4MPaInEveryRealisationBelowTheRayleighSpeed) {
-  const double rayleigh = test::plane_stress_rayleigh_speed(72e9, kNu, 2440);
   for (const std::uint64_t seed : {1u, 2u, 3u}) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     const GlassRun r = run_glass(4e6, 6, seed);
@@ -183,7 +185,7 @@ TEST(GlassBranching, WeibullBondsBranchAt4MPaInEveryRealisationBelowTheRayleighS
     RecordProperty(tag + "branch_time_us", std::to_string(r.branch_time * 1e6));
     EXPECT_TRUE(r.branched) << "no branch of 10 mm by 43 us; the crack is " << r.length * 1e3
                             << " mm long";
-    EXPECT_LT(r.fastest, rayleigh);
+    EXPECT_LT(r.fastest, kRayleigh);
   }
 }
 
@@ -200,15 +202,14 @@ TEST(GlassBranching, WeibullBondsBranchAt4MPaInEveryRealisationBelowTheRayleighS
 // It holds until the crack's own waves return from the loaded edges, 2 H/2 / c after it starts,
 // and the first waves reflected there reach the crack, at 3 t0 = 10.4 us. Returns l (m) at t (s).
 double freund_crack_length(const double t, const double load) {
-  const double E = 72e9, rho = 2440, gc = 3.8, half_height = 20e-3;
-  const double nu_p = kNu / (1 + kNu), c = std::sqrt(E / (rho * (1 - kNu * kNu)));
-  const double rayleigh = test::plane_stress_rayleigh_speed(E, kNu, rho);
+  const double E = kYoungs, gc = 3.8, half_height = 20e-3;
+  const double nu_p = kNu / (1 + kNu), c = std::sqrt(E / (kDensity * (1 - kNu * kNu)));
   const double t0 = half_height / c, sigma = 2 * load;
   // G*(tau) = 4 sigma^2 c tau (1 - 2 nu') / (pi (1 - nu')^2 E) = G_c at tau_i:
   const double tau_i =
       M_PI * E * gc * (1 - nu_p) * (1 - nu_p) / (4 * sigma * sigma * c * (1 - 2 * nu_p));
   const double tau = t - t0;
-  return tau <= tau_i ? 0.0 : rayleigh * ((tau - tau_i) - tau_i * std::log(tau / tau_i));
+  return tau <= tau_i ? 0.0 : kRayleigh * ((tau - tau_i) - tau_i * std::log(tau / tau_i));
 }
 
 // The case's lattice (every bond equally strong) runs as LEFM says: at 2 MPa the crack's length at
@@ -223,8 +224,7 @@ double freund_crack_length(const double t, const double load) {
 TEST(GlassBranching, CrackRunsAsFreundsEquationOfMotionSaysBeforeWavesReturn) {
   constexpr double kLoad = 2e6, kEnd = 10e-6;
   const auto run = [&](const double weibull_modulus) {
-    Case c = glass_case(1, kLoad, kEnd);
-    c.materials[0].weibull_modulus = weibull_modulus;
+    const Case c = glass_case(kLoad, kEnd, weibull_modulus);
     Simulation sim(c);
     return crack_samples(sim, c.bodies[0].cell_size, kEnd);
   };
