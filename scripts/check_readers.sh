@@ -2,11 +2,11 @@
 # The plot and crack scripts read every frame storage (run by ctest as Scripts.ReadEveryFrameStorage):
 # the paper's plate (FE and bonded discs) to 3 us in double precision, single precision and single
 # precision with compression 1; then scripts/plot.py (histories and a frame),
-# scripts/cracks.py (fragments) and scripts/crack_tip.py (its JSON) on each, and a check that
-# each .xdmf declares the stored types and that the single-precision frames are the double ones
-# rounded to float32: exactly on the host code path, where the runs repeat to the bit; within
-# 1e-6 of the largest value for a build that takes the device path (atomic sums: the runs agree
-# to round-off, and a float32 rounding may land one unit apart).
+# scripts/cracks.py (fragments, before branching) and scripts/crack_tip.py (its JSON) on each,
+# and a check that each .xdmf declares the stored types and that the single-precision frames are
+# the double ones rounded to float32: exactly on the host code path, where the runs repeat to the
+# bit; within 1e-6 of the largest value for a build that takes the device path (atomic sums: the
+# runs agree to round-off, and a float32 rounding may land one unit apart).
 # Usage: scripts/check_readers.sh FRACTA_EXE [host|device]
 set -euo pipefail
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -24,7 +24,7 @@ for setting in double:0 single:0 single:1; do
   MPLBACKEND=Agg "$py" "$repo/scripts/plot.py" "$out" -o "$work/plots_$setting" >/dev/null
   MPLBACKEND=Agg "$py" "$repo/scripts/plot.py" "$out" --frame 3 --field speed \
     -o "$work/plots_$setting" >/dev/null
-  "$py" "$repo/scripts/cracks.py" "$out" --seed 0 0 --fragments >/dev/null
+  "$py" "$repo/scripts/cracks.py" "$out" --seed 0 0 --fragments --before-branching >/dev/null
   "$py" "$repo/scripts/crack_tip.py" "$out" --quiet --json "$work/tip_$setting.json" >/dev/null
 done
 "$py" - "$work" "$code_path" <<'EOF'

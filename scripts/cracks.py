@@ -10,6 +10,7 @@ of the length along the crack between frames. With --fragments, the fragment mas
 of the last frame (cumulative mass fraction against fragment mass), from /frames/K/fragment_mass.
 
 usage: cracks.py OUT.h5 --seed X Y [--link L] [--min-branch B] [--json OUT.json] [--fragments]
+                 [--before-branching]
        (lengths in m; LINK defaults to 1.5 cells, MIN_BRANCH to 10 cells: a damage band's spurs
        are a few cells long)
 """
@@ -92,6 +93,38 @@ def trace(points, seed, link, min_branch, max_branches=8):
     return out
 
 
+def before_branching(samples, final, window=10e-6):
+    """The crack before its first branch, as fracta's glass test measures it
+    (tests/physics/test_glass_branching.cpp): samples are (time s, length m) from (0, 0), final the
+    last frame's trace with its lasting branches. The tip reaches the junction when the crack is
+    as long as its path to the junction, at a time linear between the two samples around it (the
+    sample after is up to a frame late); the speed before branching is the mean over the `window`
+    before that, the window's start too linear between samples; the fastest speed is over two
+    sample intervals, up to the sample after the junction. None without a branch."""
+    if not final["branches"]:
+        return None
+    path = np.array(final["path"])
+    along = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(path, axis=0).T))])
+
+    def along_to(p):  # length of the path to its point nearest p
+        return along[np.argmin(np.hypot(*(path - np.array(p)).T))]
+
+    first = min(final["branches"], key=lambda b: along_to(b["junction"]))
+    junction_length = along_to(first["junction"])
+    k = next(k for k, (_, length) in enumerate(samples) if length >= junction_length)
+    (ta, la), (tb, lb) = samples[k - 1], samples[k]
+    t_junction = ta + (tb - ta) * (junction_length - la) / (lb - la)
+    times, lengths = [t for t, _ in samples], [length for _, length in samples]
+    fastest = max([(lengths[i] - lengths[i - 2]) / (times[i] - times[i - 2])
+                   for i in range(2, k + 1)], default=0.0)
+    return dict(junction_m=first["junction"], junction_length_m=float(junction_length),
+                branch_time_s=float(t_junction), branch_length_m=final["branches"][0]["length"],
+                path_past_junction_m=final["length"] - junction_length,
+                speed_before_branching_m_per_s=float(
+                    (junction_length - np.interp(t_junction - window, times, lengths)) / window),
+                fastest_to_junction_m_per_s=float(fastest))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("h5")
@@ -100,6 +133,9 @@ def main():
     ap.add_argument("--min-branch", type=float)
     ap.add_argument("--json")
     ap.add_argument("--fragments", action="store_true")
+    ap.add_argument("--before-branching", action="store_true",
+                    help="the first junction, when the tip gets there and the mean speed over the "
+                         "10 us before (the glass test's measure; frames 0.5 us apart, as its samples)")
     a = ap.parse_args()
     f = h5py.File(a.h5, "r")
     count = int(f["frames"].attrs.get("count", len(f["frames"])))
@@ -132,6 +168,19 @@ def main():
                   f" {speed:11.1f}  {br}")
         else:
             print(f"{t * 1e6:7.2f}          -          -       0.000         0.0")
+    if a.before_branching:
+        samples = [(r["t"], r["length"]) for r in rows]
+        if samples[0][0] > 0:
+            samples.insert(0, (0.0, 0.0))
+        b = before_branching(samples, rows[-1])
+        if b is None:
+            print("\nno branch of MIN_BRANCH at the last frame")
+        else:
+            print(f"\nfirst junction at ({b['junction_m'][0] * 1e3:.1f}, {b['junction_m'][1] * 1e3:.1f}) mm, "
+                  f"{b['junction_length_m'] * 1e3:.2f} mm along the crack, the tip there at "
+                  f"{b['branch_time_s'] * 1e6:.2f} us; mean speed over the 10 us before "
+                  f"{b['speed_before_branching_m_per_s']:.0f} m/s; fastest over two frames up to it "
+                  f"{b['fastest_to_junction_m_per_s']:.0f} m/s")
     if a.fragments:
         masses = np.sort(f[f"frames/{count - 1}/fragment_mass"][:])[::-1]
         total = masses.sum()

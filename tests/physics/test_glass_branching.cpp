@@ -8,6 +8,9 @@
 // at the end; side cracks that stop are up to 8.4 mm long (docs/validation.md), so a stopped one
 // is not taken for a branch. Asserted:
 // - at 2 MPa, a lasting branch;
+// - its speed before branching, the mean speed along its path over the 10 us before its tip
+//   reaches the junction (a definition fixed before it was measured), within the published band
+//   with 10 % on either side (1350 to 1760 m/s; one cell in 10 us is 20 m/s);
 // - the fastest 1-us speed up to the junction below the plane-stress Rayleigh speed (a bound;
 //   past the junction the traced length follows whichever arm reaches farther, and jumps when
 //   that changes);
@@ -15,15 +18,13 @@
 //   crack (CrackRunsAsFreunds..., below; Weibull bond strengths slow it, recorded);
 // - with Weibull bond strengths (m = 6) at 4 MPa, a lasting branch in each of seeds 1-3.
 // Recorded at 2 MPa: where and when it branches, beside the published model reproduced by
-// scripts/pd_branching.py (66.1 mm, 20.0 us with every bond alike), and its speed before
-// branching, the mean speed along its path over the 10 us before its tip reaches the junction (a
-// definition fixed before it was measured), against the published band with 10 % on either side
-// (1350 to 1760 m/s; one cell in 10 us is 20 m/s): 1341 m/s, 0.7 % below, a failure
-// (docs/validation.md). Not tested, and failing: at 4 MPa the deterministic lattice sheds side
-// cracks where the published model branches, none of which lasts (at 0.1 and 0.05 mm cells it
-// branches); at 0.05 mm cells, where the strength is not capped, the 2 MPa plate does not branch:
-// the branch asserted here is not converged in the cells; with Weibull bond strengths the 2 MPa
-// plate branches in only about two realisations of three.
+// scripts/pd_branching.py (66.1 mm, 19.6 us with every bond alike). Not tested, and failing: at
+// 4 MPa the deterministic lattice sheds side cracks where the published model branches, none of
+// which lasts (at 0.1 and 0.05 mm cells it branches); at 0.05 mm cells, where the strength is not
+// capped, the 2 MPa plate does not branch, and at 0.1 mm its speed before branching is 1331 m/s,
+// 1.4 % below the band: the branch and its speed asserted here are not converged in the cells
+// (the published model's branch holds as its horizon halves); with Weibull bond strengths the
+// 2 MPa plate branches in only about two realisations of three (docs/validation.md).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -143,12 +144,17 @@ GlassRun run_glass(const double load, const double weibull_modulus = 0,
     if (l < junction_length) junction_length = l, r.junction_x = b.junction[0];
   }
   r.branch_length = t.branches.front().length;
-  for (const CrackSample& s : samples)
-    if (s.length >= junction_length) {
-      r.branch_time = s.time;
-      break;
-    }
-  r.fastest = fastest_until(r.branch_time);
+  // The tip reaches the junction between two samples (the first sample, at samples[0], is 0 long):
+  // the time, linear between them as length_at is; the sample after is up to 0.5 us late. The
+  // fastest 1-us speed, a bound, is taken up to that later sample.
+  std::size_t after = 1;
+  while (after + 1 < samples.size() && samples[after].length < junction_length) ++after;
+  const CrackSample &a = samples[after - 1], &b = samples[after];
+  r.branch_time =
+      b.length > a.length && b.length >= junction_length
+          ? a.time + (b.time - a.time) * (junction_length - a.length) / (b.length - a.length)
+          : b.time;
+  r.fastest = fastest_until(b.time);
   const double window = 10e-6;
   if (r.branch_time > window)
     r.speed_before_branching =
@@ -156,7 +162,7 @@ GlassRun run_glass(const double load, const double weibull_modulus = 0,
   return r;
 }
 
-TEST(GlassBranching, CrackBranchesAt2MPaBelowTheRayleighSpeed) {
+TEST(GlassBranching, CrackBranchesAt2MPaAtTheSpeedMeasuredInGlass) {
   const GlassRun r = run_glass(2e6);
   RecordProperty("crack_length_mm", std::to_string(r.length * 1e3));
   RecordProperty("fastest_1us_to_junction_m_per_s", std::to_string(r.fastest));
@@ -167,10 +173,10 @@ TEST(GlassBranching, CrackBranchesAt2MPaBelowTheRayleighSpeed) {
   RecordProperty("junction_x_mm", std::to_string(r.junction_x * 1e3));
   RecordProperty("branch_time_us", std::to_string(r.branch_time * 1e6));
   RecordProperty("branch_length_mm", std::to_string(r.branch_length * 1e3));
-  // Within the published 1500-1600 m/s, 10 % on either side? (recorded: 1341 m/s, 0.7 % below)
+  // Within the published 1500-1600 m/s, 10 % on either side (measured 1381 m/s).
   RecordProperty("speed_before_branching_m_per_s", std::to_string(r.speed_before_branching));
-  RecordProperty("speed_in_published_band",
-                 r.speed_before_branching > 1350 && r.speed_before_branching < 1760 ? "yes" : "no");
+  EXPECT_GT(r.speed_before_branching, 0.9 * 1500);
+  EXPECT_LT(r.speed_before_branching, 1.1 * 1600);
 }
 
 // With Weibull bond strengths (m = 6, in the range measured for soda-lime glass) the 4 MPa plate
