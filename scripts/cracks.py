@@ -93,6 +93,14 @@ def trace(points, seed, link, min_branch, max_branches=8):
     return out
 
 
+def fastest(samples, last=None):
+    """The largest speed over two sample intervals (1 us for the glass test's 0.5 us samples) of
+    (time s, length m) samples, up to samples[last] (default: all); 0 with fewer than three."""
+    end = len(samples) if last is None else last + 1
+    return max([(samples[i][1] - samples[i - 2][1]) / (samples[i][0] - samples[i - 2][0])
+                for i in range(2, end)], default=0.0)
+
+
 def before_branching(samples, final, window=10e-6):
     """The crack before its first branch, as fracta's glass test measures it
     (tests/physics/test_glass_branching.cpp): samples are (time s, length m) from (0, 0), final the
@@ -115,14 +123,12 @@ def before_branching(samples, final, window=10e-6):
     (ta, la), (tb, lb) = samples[k - 1], samples[k]
     t_junction = ta + (tb - ta) * (junction_length - la) / (lb - la)
     times, lengths = [t for t, _ in samples], [length for _, length in samples]
-    fastest = max([(lengths[i] - lengths[i - 2]) / (times[i] - times[i - 2])
-                   for i in range(2, k + 1)], default=0.0)
     return dict(junction_m=first["junction"], junction_length_m=float(junction_length),
                 branch_time_s=float(t_junction), branch_length_m=final["branches"][0]["length"],
                 path_past_junction_m=final["length"] - junction_length,
                 speed_before_branching_m_per_s=float(
                     (junction_length - np.interp(t_junction - window, times, lengths)) / window),
-                fastest_to_junction_m_per_s=float(fastest))
+                fastest_to_junction_m_per_s=float(fastest(samples, k)))
 
 
 def main():
